@@ -1,0 +1,55 @@
+#pragma once
+// Scanline rasterizer for piecewise-linear surfaces on triangle meshes.
+//
+// Output pixel (X, Y) samples the input plane at
+//     (origin_x + (X + 0.5) / scale_x,  origin_y + (Y + 0.5) / scale_y).
+// Inside the convex hull of the mesh the value is the linear interpolant of
+// the triangle containing that point; outside it, the value at the nearest
+// point of the hull (nearest in input coordinates). The rim outside the hull
+// is rendered as extra triangles: a slab per hull edge (value linear along
+// the edge, constant along its outward normal) and a fan per hull corner
+// (constant), so one code path covers both.
+//
+// Fill rule: every pixel centre is owned by exactly one triangle. Coverage
+// uses CGAL's exact orientation predicate; a centre exactly on an edge or
+// vertex belongs to the triangle that contains the centre moved by an
+// infinitesimal (eps, eps^2), the top-left rule made exact.
+// Interpolation uses barycentric weights that are exactly 1 and 0 at the
+// vertices, so samples that coincide with output pixel centres are
+// reproduced bit for bit.
+//
+// A mesh with no triangles (collinear points) is rendered by linear
+// interpolation along the line, clamped at its ends; a single point gives a
+// constant image.
+
+#include "image.hpp"
+#include "mesh.hpp"
+
+#include <vector>
+
+namespace ddt {
+
+struct RenderGrid {
+  int width = 0, height = 0;        // output size in pixels
+  double scale_x = 1, scale_y = 1;  // output pixels per input unit
+  double origin_x = 0, origin_y = 0;  // input position of the output's top-left corner
+};
+
+struct RenderStats {
+  long long triangles = 0;       // mesh triangles drawn
+  long long rim_triangles = 0;   // slab and fan triangles outside the hull
+  long long uncovered = 0;       // pixels no triangle owned (0 unless degenerate slivers)
+  long long overcovered = 0;     // pixels written more than once (always 0; checked)
+};
+
+// Inputs:
+//   mesh     valid Mesh2 (points in input coordinates)
+//   values   #V by C vertex values, row-major
+//   C        channels
+//   grid     output size and sampling
+//   fill_outside  render the rim outside the hull (false: those pixels keep `outside_value`)
+// Output: width x height x C image.
+Image render_mesh(const Mesh2& mesh, const std::vector<float>& values, int C, const RenderGrid& grid,
+                  RenderStats* stats = nullptr, bool fill_outside = true, float outside_value = 0.0f);
+
+}  // namespace ddt

@@ -1,0 +1,52 @@
+#pragma once
+// ddt::upscale — enlarge an image by data-dependent triangulation (DDT).
+//
+// Pipeline: samples at pixel centres -> Delaunay triangulation (CGAL) ->
+// generalized Lawson optimization of the weighted-content cost -> scanline
+// rendering of the piecewise-linear surface at the output resolution.
+//
+// Output pixel (X, Y) samples the surface at ((X + 0.5) / sx, (Y + 0.5) / sy)
+// with sx = out_width / in_width, sy = out_height / in_height. Outside the
+// convex hull of the samples (the half-pixel rim) the value is that of the
+// nearest hull point.
+//
+// Errors: throws ddt::Error (bad options, empty image).
+
+#include "image.hpp"
+
+#include <OpenImageIO/imagebuf.h>
+
+#include <functional>
+#include <string>
+
+namespace ddt {
+
+struct UpscaleOptions {
+  std::string cost = "sederberg";   // a name from cost_names() (costs.hpp)
+  bool luma_cost = false;           // flips decided on luminance only (else: sum over colour channels)
+  int alpha_channel = -1;           // interpolated, never drives flips
+  bool optimize = true;             // false: render the initial Delaunay mesh
+  double relative_tolerance = 1e-9; // a flip must lower the local cost by more than this fraction
+  int max_iterations = 10000;       // safety bound on Lawson sweeps
+  std::function<void(const std::string&)> log;  // verbose lines; may be empty
+};
+
+struct UpscaleStats {
+  int iterations = 0;
+  long long flips = 0;
+  long long triangles = 0;
+  double cost_before = 0, cost_after = 0;
+  double seconds_triangulate = 0, seconds_optimize = 0, seconds_render = 0;
+};
+
+// Enlarges `src` to out_width x out_height (each >= 1).
+Image upscale(const Image& src, int out_width, int out_height, const UpscaleOptions& options = {},
+              UpscaleStats* stats = nullptr);
+
+// OpenImageIO-shaped form: dst is resized to out_width x out_height of
+// roi (default: all of src) and filled; returns false and sets dst's error
+// on failure.
+bool upscale(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, int out_width, int out_height,
+             const UpscaleOptions& options = {}, OIIO::ROI roi = {});
+
+}  // namespace ddt
