@@ -119,8 +119,11 @@ void write_image(const std::string& path, const Image& image, SampleFormat sourc
   fs::path target(path);
   fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
   std::random_device rd;
-  fs::path tmp = dir / ("." + target.stem().string() + ".tmp" + std::to_string(rd() % 1000000) +
-                        target.extension().string());
+  std::string tmp_name = ".";
+  tmp_name += target.stem().string();
+  tmp_name += ".tmp" + std::to_string(rd() % 1000000);
+  tmp_name += target.extension().string();
+  const fs::path tmp = dir / tmp_name;
   auto fail = [&](const std::string& why) {
     std::error_code ec;
     fs::remove(tmp, ec);

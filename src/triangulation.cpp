@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <map>
 
 namespace ddt {
 namespace {
@@ -59,6 +60,14 @@ Mesh2 delaunay_triangulation(const std::vector<Point2>& points) {
   // The range constructor sorts spatially (Hilbert order) before inserting.
   Delaunay dt(input.begin(), input.end());
   if (dt.dimension() < 2) return mesh;
+  if (dt.number_of_vertices() < points.size()) {
+    // Repeated positions: CGAL kept one copy, which depends on its order;
+    // name each vertex by the smallest id at its position instead.
+    std::map<std::pair<double, double>, index_t> first_id;
+    for (std::size_t i = 0; i < points.size(); ++i)
+      first_id.emplace(std::make_pair(points[i].x, points[i].y), static_cast<index_t>(i));
+    for (auto vh : dt.finite_vertex_handles()) vh->info() = first_id.at({vh->point().x(), vh->point().y()});
+  }
 
   // Canonical order: rotate each face to start at its smallest id, sort.
   struct FaceRecord {

@@ -10,8 +10,8 @@
 //   by their vertex ids (each listed from its smallest id, counter-clockwise),
 //   so the result is independent of the order CGAL inserted the points.
 //   Fewer than 3 non-collinear points give a mesh with no triangles.
-//   Repeated positions: only the first copy is used (the others stay
-//   unreferenced).
+//   Repeated positions: the smallest id at a position is used, the others
+//   stay unreferenced.
 //
 // Ties: where four or more points are cocircular (every 2x2 block of a pixel
 // grid) Delaunay is ambiguous. We resolve it by symbolic perturbation of the

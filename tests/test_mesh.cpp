@@ -23,7 +23,7 @@ TEST_CASE("flip_edge: unit square quad takes the other diagonal") {
   REQUIRE(is_flippable(m, 0));
   flip_edge(m, 0);
   CHECK(check_mesh(m).empty());
-  CHECK(triangle_set(m) == std::set<std::array<index_t, 3>>{{0, 3, 2}, {1, 2, 3}});
+  CHECK(test::triangle_set(m) == std::set<std::array<index_t, 3>>{{0, 3, 2}, {1, 2, 3}});
   CHECK(m.opp[0] == 3);
   CHECK(m.opp[3] == 0);
 }

@@ -1,0 +1,134 @@
+// `ddtscale eval` — runs the evaluation protocol of evaluation.hpp and
+// prints one table per image, then the means per scale and method.
+
+#include "commands.hpp"
+
+#include "costs.hpp"
+#include "error.hpp"
+#include "evaluation.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <string>
+#include <unistd.h>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+void print_table_header() {
+  std::printf("  %5s  %-18s %9s %8s %10s\n", "scale", "method", "PSNR", "SSIM", "seconds");
+}
+
+void print_table_row(int scale, const std::string& method, double psnr, double ssim, double seconds) {
+  std::printf("  %5s  %-18s %9.4f %8.4f %10.5f\n", ("x" + std::to_string(scale)).c_str(), method.c_str(), psnr,
+              ssim, seconds);
+}
+
+// Messages from libraries may span lines; the command promises one line on stderr.
+std::string one_line(std::string s) {
+  s = s.substr(0, s.find('\n'));
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\r')) s.pop_back();
+  return s;
+}
+
+int fail(const std::string& message) {
+  std::fprintf(stderr, "ddtscale eval: error: %s\n", one_line(message).c_str());
+  return 2;
+}
+
+// A CSV that cannot be written should stop the run before the work, not after it.
+void check_csv_path(const std::string& path) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw ddt::Error("--csv '" + path + "' is a directory");
+  fs::path dir = fs::path(path).parent_path();
+  if (dir.empty()) dir = ".";
+  if (!fs::is_directory(dir, ec)) throw ddt::Error("--csv: directory '" + dir.string() + "' does not exist");
+  if (::access(dir.c_str(), W_OK) != 0) throw ddt::Error("--csv: directory '" + dir.string() + "' is not writable");
+}
+
+}  // namespace
+
+int run_eval_command(int argc, char** argv) {
+  CLI::App app{
+      "Score upscalers with the single-image super-resolution protocol: HR cropped to a multiple of\n"
+      "the scale, LR = MATLAB bicubic downscale rounded to 8 bits, SR = method(LR) rounded to 8 bits,\n"
+      "PSNR and SSIM on BT.601 luma with the scale shaved from each border. --synthetic scores against\n"
+      "analytic scenes rendered at both resolutions instead."};
+  app.name("ddtscale eval");
+
+  std::string set_dir, csv_path;
+  std::vector<int> scales{2, 3, 4};
+  std::vector<std::string> methods{"ddt", "bicubic", "lanczos", "bilinear", "nearest"};
+  std::vector<std::string> costs;
+  bool synthetic = false, quiet = false, luma_cost = false;
+  int size = 64;
+
+  auto* set_option = app.add_option("--set", set_dir, "Directory of ground-truth images (PNG, JPEG, BMP, TIFF)");
+  app.add_option("--scale", scales, "Integer scales, comma-separated")->delimiter(',')->capture_default_str();
+  std::string method_help = "Methods, comma-separated:";
+  for (const auto& name : ddt::eval_method_names()) method_help += " " + name;
+  app.add_option("--methods", methods, method_help)->delimiter(',')->capture_default_str();
+  app.add_option("--cost", costs,
+                 "DDT costs, comma-separated; 'ddt' becomes one method ddt-<cost> per cost (" +
+                     ddt::cost_names_joined() + ")")
+      ->delimiter(',');
+  app.add_flag("--luma-cost", luma_cost, "DDT flips decided on luminance only");
+  app.add_option("--csv", csv_path, "Write every score to this CSV file");
+  auto* synthetic_flag = app.add_flag("--synthetic", synthetic, "Score on the analytic scenes instead of a set");
+  app.add_option("--size", size, "Width and height of the synthetic LR renderings")->capture_default_str();
+  app.add_flag("--quiet", quiet, "No progress lines on stderr");
+  set_option->excludes(synthetic_flag);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help
+    return fail(e.what());
+  }
+
+  try {
+    if (!synthetic && set_dir.empty()) throw ddt::Error("give --set DIR or --synthetic");
+    if (!csv_path.empty()) check_csv_path(csv_path);
+
+    ddt::UpscaleOptions ddt_options;
+    ddt_options.luma_cost = luma_cost;
+    ddt::EvalOptions options;
+    options.scales = scales;
+    options.methods = ddt::make_eval_methods(methods, costs, ddt_options);
+    options.synthetic_size = size;
+    if (!quiet)
+      options.progress = [](const std::string& name, int index, int count) {
+        std::fprintf(stderr, "eval: [%d/%d] %s\n", index + 1, count, name.c_str());
+      };
+    options.on_image = [](const std::vector<ddt::EvalRow>& rows) {
+      if (rows.empty()) return;
+      std::printf("%s\n", rows.front().image.c_str());
+      print_table_header();
+      for (const auto& r : rows) print_table_row(r.scale, r.method, r.psnr, r.ssim, r.seconds);
+      std::printf("\n");
+      std::fflush(stdout);
+    };
+
+    const std::vector<ddt::EvalRow> rows =
+        synthetic ? ddt::evaluate_synthetic(options) : ddt::evaluate_set(set_dir, options);
+
+    const auto means = ddt::mean_by_method_and_scale(rows);
+    const int images = means.empty() ? 0 : means.front().images;
+    const std::string over = synthetic ? " scenes" : " images of " + set_dir;
+    std::printf("mean over %d%s\n", images, over.c_str());
+    print_table_header();
+    for (const auto& m : means) print_table_row(m.scale, m.method, m.psnr, m.ssim, m.seconds);
+    std::fflush(stdout);
+
+    if (!csv_path.empty()) ddt::write_eval_csv(csv_path, rows);
+  } catch (const std::exception& e) {
+    return fail(e.what());
+  }
+  return 0;
+}

@@ -1,0 +1,317 @@
+#include "evaluation.hpp"
+
+#include "classic_resize.hpp"
+#include "costs.hpp"
+#include "error.hpp"
+#include "image_io.hpp"
+#include "matlab_resize.hpp"
+#include "metrics.hpp"
+#include "synthetic_scenes.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <system_error>
+
+namespace fs = std::filesystem;
+
+namespace ddt {
+namespace {
+
+std::string join(const std::vector<std::string>& items) {
+  std::string s;
+  for (const auto& item : items) s += (s.empty() ? "" : ", ") + item;
+  return s;
+}
+
+EvalMethod ddt_method(const std::string& name, const UpscaleOptions& options) {
+  find_cost(options.cost);  // throws, naming the valid costs, before any work
+  return {name, [options](const Image& lr, int w, int h) { return upscale(lr, w, h, options); }};
+}
+
+EvalMethod classic_method(const std::string& name, const std::string& classic) {
+  return {name, [classic](const Image& lr, int w, int h) { return classic_resize(lr, w, h, classic); }};
+}
+
+// The protocol works on colour or grey pictures; alpha is not part of the scores.
+Image drop_alpha(const Image& img) {
+  const int keep = img.channels >= 3 ? 3 : 1;
+  if (keep == img.channels) return img;
+  Image out(img.width, img.height, keep);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x)
+      for (int c = 0; c < keep; ++c) out.at(x, y, c) = img.at(x, y, c);
+  return out;
+}
+
+// MATLAB modcrop: keep the top-left width - width % s by height - height % s.
+Image crop_to_multiple(const Image& img, int s) {
+  const int w = img.width - img.width % s, h = img.height - img.height % s;
+  if (w == img.width && h == img.height) return img;
+  Image out(w, h, img.channels);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < img.channels; ++c) out.at(x, y, c) = img.at(x, y, c);
+  return out;
+}
+
+// Runs one method, timed, and checks what it returns.
+Image run_timed(const EvalMethod& method, const Image& lr, int w, int h, double& seconds) {
+  const auto start = std::chrono::steady_clock::now();
+  Image sr = method.run(lr, w, h);
+  seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (sr.width != w || sr.height != h || sr.channels != lr.channels)
+    throw Error("returned " + std::to_string(sr.width) + "x" + std::to_string(sr.height) + "x" +
+                std::to_string(sr.channels) + " instead of " + std::to_string(w) + "x" + std::to_string(h) +
+                "x" + std::to_string(lr.channels));
+  return sr;
+}
+
+EvalRow score(const std::string& image, int s, const EvalMethod& method, const Image& lr, const Image& hr,
+              bool quantize) {
+  EvalRow row{image, s, method.name};
+  try {
+    Image sr = run_timed(method, lr, hr.width, hr.height, row.seconds);
+    if (quantize) sr = round_to_8bit(sr);
+    row.psnr = psnr_y(sr, hr, s);
+    row.ssim = ssim_y(sr, hr, s);
+  } catch (const std::exception& e) {
+    throw Error(method.name + " on " + image + " x" + std::to_string(s) + ": " + e.what());
+  }
+  return row;
+}
+
+void check_scales(const std::vector<int>& scales) {
+  if (scales.empty()) throw Error("no scale given");
+  for (int s : scales)
+    if (s < 2) throw Error("scale " + std::to_string(s) + " is not an integer >= 2");
+}
+
+void check_methods_given(const std::vector<EvalMethod>& methods) {
+  if (methods.empty()) throw Error("no method given");
+}
+
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char ch : s) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+  return q + "\"";
+}
+
+std::string number(double v) {
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.6f", v);
+  return buf;
+}
+
+}  // namespace
+
+std::vector<std::string> eval_method_names() {
+  return {"ddt", "ddt-<cost>", "delaunay", "bicubic", "bicubic-oiio", "lanczos", "bilinear", "nearest"};
+}
+
+std::vector<EvalMethod> make_eval_methods(const std::vector<std::string>& names,
+                                          const std::vector<std::string>& ddt_costs,
+                                          const UpscaleOptions& ddt_options) {
+  std::vector<EvalMethod> methods;
+  auto add = [&](EvalMethod m) {
+    for (const auto& existing : methods)
+      if (existing.name == m.name) throw Error("method '" + m.name + "' is given twice");
+    methods.push_back(std::move(m));
+  };
+  for (const auto& name : names) {
+    if (name == "ddt") {
+      if (ddt_costs.empty()) add(ddt_method("ddt", ddt_options));
+      for (const auto& cost : ddt_costs) {
+        UpscaleOptions o = ddt_options;
+        o.cost = cost;
+        add(ddt_method("ddt-" + cost, o));
+      }
+    } else if (name.rfind("ddt-", 0) == 0 && name.size() > 4) {
+      UpscaleOptions o = ddt_options;
+      o.cost = name.substr(4);
+      add(ddt_method(name, o));
+    } else if (name == "delaunay") {
+      UpscaleOptions o = ddt_options;
+      o.optimize = false;
+      add(ddt_method(name, o));
+    } else if (name == "bicubic") {
+      // The protocol's reference bicubic, not OIIO's: the published rows were made with MATLAB.
+      add({name, [](const Image& lr, int w, int h) { return matlab_imresize_bicubic(lr, w, h); }});
+    } else if (name == "bicubic-oiio") {
+      add(classic_method(name, "bicubic"));
+    } else if (name == "lanczos" || name == "bilinear" || name == "nearest") {
+      add(classic_method(name, name));
+    } else {
+      throw Error("unknown method '" + name + "' (valid: " + join(eval_method_names()) + ")");
+    }
+  }
+  return methods;
+}
+
+void check_eval_methods(const std::vector<EvalMethod>& methods) {
+  // A smooth 4x4 colour patch: big enough for a triangulation, tiny enough to be instant.
+  Image probe(4, 4, 3);
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 4; ++x)
+      for (int c = 0; c < 3; ++c) probe.at(x, y, c) = static_cast<float>((x + 2 * y + c) % 7) / 7.0f;
+  for (const auto& m : methods) {
+    try {
+      double seconds = 0;
+      run_timed(m, probe, 8, 8, seconds);
+    } catch (const std::exception& e) {
+      throw Error(m.name + ": " + e.what());
+    }
+  }
+}
+
+std::vector<std::string> list_images(const std::string& dir) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw Error("'" + dir + "' is not a directory");
+  std::vector<std::string> files;
+  fs::directory_iterator it(dir, ec);
+  if (ec) throw Error("cannot list '" + dir + "': " + ec.message());
+  for (const auto& entry : it) {
+    if (!entry.is_regular_file(ec)) continue;
+    std::string ext = entry.path().extension().string();
+    for (auto& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".tif" || ext == ".tiff")
+      files.push_back(entry.path().string());
+  }
+  std::sort(files.begin(), files.end(), [](const std::string& a, const std::string& b) {
+    return fs::path(a).filename().string() < fs::path(b).filename().string();
+  });
+  return files;
+}
+
+std::vector<EvalRow> evaluate_image(const std::string& name, const Image& hr_in,
+                                    const std::vector<int>& scales,
+                                    const std::vector<EvalMethod>& methods) {
+  check_scales(scales);
+  check_methods_given(methods);
+  const Image hr_full = drop_alpha(hr_in);
+  std::vector<EvalRow> rows;
+  for (int s : scales) {
+    if (hr_full.width < s || hr_full.height < s)
+      throw Error(name + ": " + std::to_string(hr_full.width) + "x" + std::to_string(hr_full.height) +
+                  " is smaller than the scale " + std::to_string(s));
+    const Image hr = crop_to_multiple(hr_full, s);
+    const Image lr = round_to_8bit(matlab_imresize_bicubic(hr, hr.width / s, hr.height / s));
+    for (const auto& m : methods) rows.push_back(score(name, s, m, lr, hr, /*quantize=*/true));
+  }
+  return rows;
+}
+
+std::vector<EvalRow> evaluate_set(const std::string& dir, const EvalOptions& options) {
+  check_scales(options.scales);
+  check_methods_given(options.methods);
+  const std::vector<std::string> files = list_images(dir);
+  if (files.empty()) throw Error("'" + dir + "' holds no PNG, JPEG, BMP or TIFF image");
+  check_eval_methods(options.methods);
+  std::vector<EvalRow> rows;
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    const std::string name = fs::path(files[i]).filename().string();
+    if (options.progress) options.progress(name, static_cast<int>(i), static_cast<int>(files.size()));
+    const ImageFile file = read_image(files[i]);
+    std::vector<EvalRow> image_rows = evaluate_image(name, file.image, options.scales, options.methods);
+    if (options.on_image) options.on_image(image_rows);
+    rows.insert(rows.end(), image_rows.begin(), image_rows.end());
+  }
+  return rows;
+}
+
+std::vector<EvalRow> evaluate_synthetic(const EvalOptions& options) {
+  check_scales(options.scales);
+  check_methods_given(options.methods);
+  if (options.synthetic_size < 1) throw Error("synthetic size must be >= 1");
+  check_eval_methods(options.methods);
+  const std::vector<Scene> scenes = standard_scenes();
+  const int w = options.synthetic_size, h = options.synthetic_size;
+  std::vector<EvalRow> rows;
+  for (std::size_t i = 0; i < scenes.size(); ++i) {
+    const Scene& scene = scenes[i];
+    if (options.progress) options.progress(scene.name, static_cast<int>(i), static_cast<int>(scenes.size()));
+    std::vector<EvalRow> scene_rows;
+    const Image lr = render_scene(scene, w, h);
+    for (int s : options.scales) {
+      const Image hr = render_scene(scene, w * s, h * s);
+      // Both renderings are exact box filters of one scene: nothing to quantize away.
+      for (const auto& m : options.methods)
+        scene_rows.push_back(score(scene.name, s, m, lr, hr, /*quantize=*/false));
+    }
+    if (options.on_image) options.on_image(scene_rows);
+    rows.insert(rows.end(), scene_rows.begin(), scene_rows.end());
+  }
+  return rows;
+}
+
+std::vector<EvalMean> mean_by_method_and_scale(const std::vector<EvalRow>& rows) {
+  std::vector<std::string> method_order;
+  std::vector<int> scale_order;
+  for (const auto& r : rows) {
+    if (std::find(method_order.begin(), method_order.end(), r.method) == method_order.end())
+      method_order.push_back(r.method);
+    if (std::find(scale_order.begin(), scale_order.end(), r.scale) == scale_order.end())
+      scale_order.push_back(r.scale);
+  }
+  std::sort(scale_order.begin(), scale_order.end());
+  std::vector<EvalMean> means;
+  for (int s : scale_order) {
+    for (const auto& m : method_order) {
+      EvalMean mean{m, s};
+      for (const auto& r : rows) {
+        if (r.scale != s || r.method != m) continue;
+        ++mean.images;
+        mean.psnr += r.psnr;
+        mean.ssim += r.ssim;
+        mean.seconds += r.seconds;
+      }
+      if (mean.images == 0) continue;
+      mean.psnr /= mean.images;
+      mean.ssim /= mean.images;
+      mean.seconds /= mean.images;
+      means.push_back(mean);
+    }
+  }
+  return means;
+}
+
+void write_eval_csv(const std::string& path, const std::vector<EvalRow>& rows) {
+  const fs::path target(path);
+  if (path.empty()) throw Error("no CSV file given");
+  std::error_code ec;
+  if (fs::is_directory(target, ec)) throw Error("cannot write '" + path + "': it is a directory");
+  const fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+  if (!fs::is_directory(dir, ec)) throw Error("cannot write '" + path + "': no directory '" + dir.string() + "'");
+  // Same directory, so the rename is atomic and a failed run leaves any old file intact.
+  std::random_device rd;
+  std::string tmp_name = ".";  // built by appending: GCC 12 misfires -Wrestrict on "." + string
+  tmp_name += target.filename().string();
+  tmp_name += ".tmp" + std::to_string(rd() % 1000000);
+  const fs::path tmp = dir / tmp_name;
+  auto fail = [&](const std::string& why) {
+    std::error_code ignored;
+    fs::remove(tmp, ignored);
+    throw Error("cannot write '" + path + "': " + why);
+  };
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) fail("cannot create a file in '" + dir.string() + "'");
+    out << "image,scale,method,psnr,ssim,seconds\n";
+    for (const auto& r : rows)
+      out << csv_field(r.image) << ',' << r.scale << ',' << csv_field(r.method) << ',' << number(r.psnr) << ','
+          << number(r.ssim) << ',' << number(r.seconds) << '\n';
+    out.flush();
+    if (!out) fail("write error");
+  }
+  fs::rename(tmp, target, ec);
+  if (ec) fail(ec.message());
+}
+
+}  // namespace ddt

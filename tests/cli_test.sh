@@ -1,0 +1,89 @@
+#!/usr/bin/env bash
+# End-to-end checks of the ddtscale command: the main job, --help, and bad
+# input (one line on stderr, non-zero exit, no crash, nothing destroyed).
+# Usage: cli_test.sh path/to/ddtscale source_dir
+set -u
+bin="$1"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+passed=0
+failed=0
+ok() { passed=$((passed + 1)); }
+bad() { failed=$((failed + 1)); echo "FAIL: $*"; }
+
+# Expect success.
+run_ok() {
+  local name="$1"; shift
+  if "$bin" "$@" >"$work/out.txt" 2>"$work/err.txt"; then ok; else bad "$name: exit $? ($(cat "$work/err.txt"))"; fi
+}
+# Expect a clean failure: exit 1 or 2, exactly one line on stderr.
+run_fail() {
+  local name="$1"; shift
+  "$bin" "$@" >"$work/out.txt" 2>"$work/err.txt"
+  local code=$?
+  local lines
+  lines=$(wc -l <"$work/err.txt")
+  if [ "$code" -ne 1 ] && [ "$code" -ne 2 ]; then bad "$name: exit code $code"; return; fi
+  if [ "$lines" -ne 1 ]; then bad "$name: $lines lines on stderr: $(cat "$work/err.txt")"; return; fi
+  ok
+}
+size_of() { oiiotool --info "$1" | sed -E 's/.* ([0-9]+) x +([0-9]+).*/\1x\2/'; }
+
+oiiotool --pattern checker:width=4:height=4:color1=0.1,0.2,0.3:color2=0.9,0.8,0.7 24x16 3 -o "$work/in.png"
+oiiotool --pattern fill:top=0:bottom=1 20x10 1 -d uint16 -o "$work/grey16.png"
+
+# The main job.
+run_ok "main job" "$work/in.png" "$work/out.exr" --scale 10
+[ "$(size_of "$work/out.exr")" = "240x160" ] && ok || bad "main job: size $(size_of "$work/out.exr")"
+oiiotool --info -v "$work/out.exr" | grep -q "float" && ok || bad "EXR is not float"
+run_ok "non-integer scale" "$work/in.png" "$work/out25.png" --scale 2.5
+[ "$(size_of "$work/out25.png")" = "60x40" ] && ok || bad "scale 2.5: size $(size_of "$work/out25.png")"
+run_ok "width only" "$work/in.png" "$work/w.png" --width 48
+[ "$(size_of "$work/w.png")" = "48x32" ] && ok || bad "--width: size $(size_of "$work/w.png")"
+run_ok "16-bit PNG" "$work/grey16.png" "$work/grey16_x3.png" --scale 3 --cost variance
+oiiotool --info -v "$work/grey16_x3.png" | grep -q "uint16" && ok || bad "16-bit input did not give 16-bit PNG"
+run_ok "verbose" "$work/in.png" "$work/v.tif" --scale 2 --verbose --cost sederberg-edge --cost-channel luma
+grep -q "flips" "$work/err.txt" && grep -q "render" "$work/err.txt" && ok || bad "--verbose reports no stages"
+run_ok "no optimize" "$work/in.png" "$work/n.png" --scale 2 --no-optimize
+
+# Degenerate images.
+oiiotool --pattern constant:color=0.5 1x1 3 -o "$work/one.png"
+oiiotool --pattern fill:left=0:right=1 9x1 1 -o "$work/row.png"
+oiiotool --pattern fill:top=0:bottom=1 1x9 1 -o "$work/col.png"
+oiiotool --pattern constant:color=0.3 8x8 1 -o "$work/flat.png"
+for f in one row col flat; do run_ok "degenerate $f" "$work/$f.png" "$work/${f}_x4.png" --scale 4; done
+
+# --help documents every option.
+run_ok "help" --help
+for opt in --scale --width --height --cost --cost-channel --no-optimize --tolerance --max-pixels --verbose --quiet; do
+  grep -q -- "$opt" "$work/out.txt" && ok || bad "--help does not mention $opt"
+done
+
+# Bad input.
+printf 'not an image' >"$work/corrupt.png"
+run_fail "missing input" "$work/nope.png" "$work/o.png" --scale 2
+run_fail "corrupt input" "$work/corrupt.png" "$work/o.png" --scale 2
+run_fail "scale zero" "$work/in.png" "$work/o.png" --scale 0
+run_fail "scale negative" "$work/in.png" "$work/o.png" --scale -3
+run_fail "scale not a number" "$work/in.png" "$work/o.png" --scale abc
+run_fail "no scale" "$work/in.png" "$work/o.png"
+run_fail "too many pixels" "$work/in.png" "$work/o.png" --scale 100 --max-pixels 1000
+run_fail "output is input" "$work/in.png" "$work/in.png" --scale 2
+run_fail "missing directory" "$work/in.png" "$work/nodir/o.png" --scale 2
+run_fail "unknown cost" "$work/in.png" "$work/o.png" --scale 2 --cost nope
+run_fail "unknown extension" "$work/in.png" "$work/o.nosuchformat" --scale 2
+run_fail "missing argument" "$work/in.png"
+mkdir "$work/ro" && chmod 555 "$work/ro"
+if [ "$(id -u)" -ne 0 ]; then run_fail "read-only directory" "$work/in.png" "$work/ro/o.png" --scale 2; fi
+
+# A failing run never destroys an existing output.
+printf 'precious' >"$work/keep.png"
+run_fail "keeps existing output" "$work/corrupt.png" "$work/keep.png" --scale 2
+[ "$(cat "$work/keep.png")" = "precious" ] && ok || bad "existing output was overwritten"
+cp "$work/in.png" "$work/in_copy.png"
+run_fail "input untouched" "$work/in.png" "$work/in.png" --scale 2
+cmp -s "$work/in.png" "$work/in_copy.png" && ok || bad "input was modified"
+ls -a "$work" | grep -q '\.tmp' && bad "temporary file left behind" || ok
+
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]

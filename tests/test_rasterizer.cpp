@@ -1,0 +1,173 @@
+#include "optimizer.hpp"
+#include "rasterizer.hpp"
+#include "test_support.hpp"
+#include "triangulation.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+using namespace ddt;
+
+namespace {
+
+RenderGrid grid_for(int in_w, int in_h, int out_w, int out_h) {
+  RenderGrid g;
+  g.width = out_w;
+  g.height = out_h;
+  g.scale_x = double(out_w) / in_w;
+  g.scale_y = double(out_h) / in_h;
+  return g;
+}
+
+std::vector<float> random_values(std::size_t n, int C, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<float> v(n * C);
+  for (auto& x : v) x = u(rng);
+  return v;
+}
+
+// Nearest point of segment p-q to r.
+Point2 nearest_on_segment(const Point2& p, const Point2& q, const Point2& r) {
+  const double dx = q.x - p.x, dy = q.y - p.y;
+  const double t = std::clamp(((r.x - p.x) * dx + (r.y - p.y) * dy) / (dx * dx + dy * dy), 0.0, 1.0);
+  return {p.x + t * dx, p.y + t * dy};
+}
+
+}  // namespace
+
+TEST_CASE("render_mesh: at scale 3, output (3i+1, 3j+1) equals input sample (i, j) exactly") {
+  const int w = 9, h = 7, C = 3;
+  Mesh2 m = delaunay_triangulation(test::grid_points(w, h));
+  const std::vector<float> values = random_values(m.points.size(), C, 1);
+  optimize_lawson(m, values, C, find_cost("sederberg"));  // thin triangles too
+  const Image out = render_mesh(m, values, C, grid_for(w, h, 3 * w, 3 * h));
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i)
+      for (int c = 0; c < C; ++c) REQUIRE(out.at(3 * i + 1, 3 * j + 1, c) == values[(j * w + i) * C + c]);
+}
+
+TEST_CASE("render_mesh: a linear ramp is reproduced at any scale, and clamped outside the hull") {
+  const int w = 11, h = 8;
+  for (double angle : {0.0, 17.0, 45.0, 120.0, 250.0}) {
+    const double gx = std::cos(angle * M_PI / 180), gy = std::sin(angle * M_PI / 180);
+    auto ramp = [&](double x, double y) { return 0.5 + 0.05 * (gx * x + gy * y); };
+    std::vector<float> values;
+    for (const Point2& p : test::grid_points(w, h)) values.push_back(static_cast<float>(ramp(p.x, p.y)));
+    Mesh2 m = delaunay_triangulation(test::grid_points(w, h));
+    for (double scale : {1.0, 2.5, 3.0, 7.3, 10.0}) {
+      CAPTURE(angle);
+      CAPTURE(scale);
+      const int ow = static_cast<int>(std::round(w * scale)), oh = static_cast<int>(std::round(h * scale));
+      const RenderGrid g = grid_for(w, h, ow, oh);
+      RenderStats st;
+      const Image out = render_mesh(m, values, 1, g, &st);
+      CHECK(st.uncovered == 0);
+      CHECK(st.overcovered == 0);
+      double worst = 0;
+      for (int Y = 0; Y < oh; ++Y)
+        for (int X = 0; X < ow; ++X) {
+          // Inside the hull the ramp itself; outside, its value at the nearest hull point (a clamp on a grid).
+          const double x = std::clamp((X + 0.5) / g.scale_x, 0.5, w - 0.5);
+          const double y = std::clamp((Y + 0.5) / g.scale_y, 0.5, h - 0.5);
+          worst = std::max(worst, std::abs(out.at(X, Y) - ramp(x, y)));
+        }
+      CHECK(worst < 2e-7);
+    }
+  }
+}
+
+TEST_CASE("render_mesh: every pixel is owned by exactly one triangle") {
+  for (unsigned seed : {1u, 2u, 3u, 4u}) {
+    Mesh2 m = delaunay_triangulation(test::random_points(200, seed, 16.0));
+    const std::vector<float> values = random_values(m.points.size(), 1, seed);
+    optimize_lawson(m, values, 1, find_cost("sederberg"));
+    for (double scale : {1.0, 3.0, 6.7}) {
+      RenderGrid g;
+      g.width = g.height = static_cast<int>(16 * scale);
+      g.scale_x = g.scale_y = scale;
+      RenderStats st;
+      render_mesh(m, values, 1, g, &st);
+      CHECK(st.uncovered == 0);
+      CHECK(st.overcovered == 0);
+    }
+  }
+  // A grid at scale 4: many pixel centres lie exactly on edges and vertices.
+  Mesh2 grid = delaunay_triangulation(test::grid_points(10, 10));
+  const std::vector<float> values = random_values(100, 1, 5);
+  optimize_lawson(grid, values, 1, find_cost("variance"));
+  RenderStats st;
+  render_mesh(grid, values, 1, grid_for(10, 10, 40, 40), &st);
+  CHECK(st.uncovered == 0);
+  CHECK(st.overcovered == 0);
+}
+
+TEST_CASE("render_mesh: outside the hull of scattered points, the nearest hull point's value") {
+  Mesh2 m = delaunay_triangulation(test::random_points(80, 17, 10.0));
+  const std::vector<float> values = random_values(m.points.size(), 1, 17);
+  RenderGrid g;
+  g.width = g.height = 50;
+  g.scale_x = g.scale_y = 5;
+  const Image out = render_mesh(m, values, 1, g);
+  std::vector<index_t> hull;
+  for (index_t e = 0; e < m.half_edge_count(); ++e)
+    if (m.opp[e] == no_edge) hull.push_back(e);
+  int outside = 0;
+  for (int Y = 0; Y < g.height; Y += 3)
+    for (int X = 0; X < g.width; X += 3) {
+      const Point2 p{(X + 0.5) / 5, (Y + 0.5) / 5};
+      double best = 1e300, value = 0;
+      bool inside = true;
+      for (index_t e : hull) {
+        const index_t u = m.tri[e], v = m.tri[next_edge(e)];
+        if (orientation(m.points[u], m.points[v], p) < 0) inside = false;
+        const Point2 q = nearest_on_segment(m.points[u], m.points[v], p);
+        const double d = std::hypot(q.x - p.x, q.y - p.y);
+        if (d < best) {
+          best = d;
+          const double len = std::hypot(m.points[v].x - m.points[u].x, m.points[v].y - m.points[u].y);
+          const double t = std::hypot(q.x - m.points[u].x, q.y - m.points[u].y) / len;
+          value = (1 - t) * values[u] + t * values[v];
+        }
+      }
+      if (inside) continue;
+      ++outside;
+      CHECK(out.at(X, Y) == doctest::Approx(value).epsilon(1e-5));
+    }
+  CHECK(outside > 20);
+}
+
+TEST_CASE("render_mesh: without the rim, outside pixels keep the no-data value") {
+  Mesh2 m = delaunay_triangulation(test::random_points(50, 23, 10.0));
+  const std::vector<float> values(m.points.size(), 0.5f);
+  RenderGrid g;
+  g.width = g.height = 20;
+  g.scale_x = g.scale_y = 2;
+  RenderStats st;
+  const Image out = render_mesh(m, values, 1, g, &st, false, -1.0f);
+  long long nodata = 0;
+  for (float v : out.pixels) {
+    CHECK((v == 0.5f || v == -1.0f));
+    nodata += v == -1.0f;
+  }
+  CHECK(nodata == st.uncovered);
+  CHECK(nodata > 0);
+  CHECK(st.overcovered == 0);
+}
+
+TEST_CASE("render_mesh: collinear samples interpolate along their line") {
+  // A single row: values 0, 1, 2, 3 at x = 0.5 .. 3.5.
+  Mesh2 m = delaunay_triangulation(test::grid_points(4, 1));
+  REQUIRE(m.triangle_count() == 0);
+  const std::vector<float> values = {0, 1, 2, 3};
+  const Image out = render_mesh(m, values, 1, grid_for(4, 1, 8, 3));
+  for (int Y = 0; Y < 3; ++Y) {
+    CHECK(out.at(0, Y) == 0.0f);                            // x = 0.25: clamped to 0.5
+    CHECK(out.at(3, Y) == doctest::Approx(1.25));           // x = 1.75
+    CHECK(out.at(7, Y) == 3.0f);                            // x = 3.75: clamped
+  }
+  Mesh2 single = delaunay_triangulation(test::grid_points(1, 1));
+  const Image one = render_mesh(single, {0.25f}, 1, grid_for(1, 1, 5, 5));
+  for (float v : one.pixels) CHECK(v == 0.25f);
+}
