@@ -109,7 +109,7 @@ void write_image(const std::string& path, const Image& image, SampleFormat sourc
   OIIO::ImageSpec spec(image.width, image.height, image.channels, output_type(path, source_format, *out));
   if (alpha_channel >= 0 && alpha_channel < image.channels) {
     spec.alpha_channel = alpha_channel;
-    spec.channelnames[alpha_channel] = "A";
+    spec.channelnames[alpha_channel].assign(1, 'A');
   }
   if (spec.format == OIIO::TypeDesc::FLOAT && lower_extension(path) == ".exr")
     spec.attribute("compression", "zip");
