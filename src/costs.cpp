@@ -26,14 +26,16 @@ double sederberg_cost(const double* g1, const double* g2, int dim) {
   return std::max(0.0, std::sqrt(n1 * n2) - dot);
 }
 
+double sederberg_facet_cost(const FacetPair& facet) { return sederberg_cost(facet.g1, facet.g2, facet.dim); }
+
 const std::vector<CostFunction>& cost_functions() {
   static const std::vector<CostFunction> table = {
       {"sederberg", "weighted content, w = mean Sederberg cost of the simplex's facets (paper's default)",
-       CostForm::facet_weighted_content, nullptr, &sederberg_cost},
+       CostForm::facet_weighted_content, nullptr, &sederberg_facet_cost},
       {"variance", "weighted content, w = variance of the vertex values (paper's C0 weight)",
        CostForm::simplex_weight, &variance_weight, nullptr},
       {"sederberg-edge", "classic 2D DDT: sum of Sederberg costs over interior edges",
-       CostForm::facet_sum, nullptr, &sederberg_cost},
+       CostForm::facet_sum, nullptr, &sederberg_facet_cost},
   };
   return table;
 }

@@ -39,14 +39,32 @@ enum class CostForm {
   facet_sum,               // sum over interior facets of c(f)
 };
 
+// What a facet cost sees of a facet shared by simplices s1 and s2, for one
+// channel, in any dimension `dim` (2: an edge between triangles, 3: a
+// triangle between tetrahedra). Pointers address `dim` coordinates.
+struct FacetPair {
+  int dim = 2;
+  const double* g1 = nullptr;      // gradient of the linear interpolant on s1
+  const double* g2 = nullptr;      // ... on s2
+  const double* normal = nullptr;  // unit normal of the facet, pointing from s1 into s2
+  const double* base = nullptr;    // one vertex of the facet
+  double z_base = 0;               // its value
+  const double* apex1 = nullptr;   // the vertex of s1 off the facet
+  const double* apex2 = nullptr;   // the vertex of s2 off the facet
+  double z_apex1 = 0, z_apex2 = 0; // their values
+};
+
 struct CostFunction {
   const char* name;
   const char* summary;
   CostForm form;
   // simplex_weight form: weight from the values at the n+1 vertices.
   double (*simplex_weight)(const double* values, int count) = nullptr;
-  // facet forms: cost of a facet between simplices with gradients g1, g2.
-  double (*facet_cost)(const double* g1, const double* g2, int dim) = nullptr;
+  // facet forms: cost of one facet for one channel.
+  double (*facet_cost)(const FacetPair& facet) = nullptr;
+  // Whether facet_cost reads more than g1 and g2 (normal, base, apexes);
+  // the optimizer skips computing them otherwise.
+  bool facet_geometry = false;
 };
 
 // Population variance of count values (the paper's variance weight).
@@ -55,6 +73,7 @@ double variance_weight(const double* values, int count);
 // Sederberg's cost: |g1| |g2| - g1 . g2 (>= 0; 0 when the gradients are parallel
 // and point the same way, in particular when the two planes coincide).
 double sederberg_cost(const double* g1, const double* g2, int dim);
+double sederberg_facet_cost(const FacetPair& facet);  // the same, as a facet cost
 
 // Every cost the optimizer knows, in the order `--help` lists them.
 const std::vector<CostFunction>& cost_functions();

@@ -10,6 +10,7 @@ namespace {
 // Per-channel gradients of the linear interpolant on one triangle, and its area.
 struct TriangleField {
   bool present = false;
+  index_t ids[3] = {0, 0, 0};
   double area = 0;
   double grad[max_cost_channels][2];
 };
@@ -18,6 +19,7 @@ TriangleField triangle_field(const Mesh2& mesh, const std::vector<float>& values
                              index_t i2) {
   TriangleField t;
   t.present = true;
+  t.ids[0] = i0, t.ids[1] = i1, t.ids[2] = i2;
   const Point2 &p0 = mesh.points[i0], &p1 = mesh.points[i1], &p2 = mesh.points[i2];
   const double ux = p1.x - p0.x, uy = p1.y - p0.y, vx = p2.x - p0.x, vy = p2.y - p0.y;
   const double det = ux * vy - uy * vx;
@@ -41,10 +43,45 @@ TriangleField across(const Mesh2& mesh, const std::vector<float>& values, int K,
   return triangle_field(mesh, values, K, mesh.tri[3 * t], mesh.tri[3 * t + 1], mesh.tri[3 * t + 2]);
 }
 
-double edge_cost(const CostFunction& cost, int K, const TriangleField& s, const TriangleField& t) {
+// The vertex of t that is neither u nor v.
+index_t apex_of(const TriangleField& t, index_t u, index_t v) {
+  for (index_t id : t.ids)
+    if (id != u && id != v) return id;
+  return t.ids[0];
+}
+
+// Facet cost of edge u-v between triangles s and t (0 on the hull), times
+// (area(s) + area(t)) / 3 in the weighted-content form.
+double edge_cost(const Mesh2& mesh, const std::vector<float>& values, const CostFunction& cost, int K,
+                 const TriangleField& s, const TriangleField& t, index_t u, index_t v) {
   if (!s.present || !t.present) return 0;  // hull edges contribute nothing
+  FacetPair facet;
+  facet.dim = 2;
+  const index_t a1 = apex_of(s, u, v), a2 = apex_of(t, u, v);
+  double normal[2], base[2], apex1[2], apex2[2];
+  if (cost.facet_geometry) {
+    const Point2 &pu = mesh.points[u], &pv = mesh.points[v];
+    const Point2 &p1 = mesh.points[a1], &p2 = mesh.points[a2];
+    const double len = std::hypot(pv.x - pu.x, pv.y - pu.y);
+    normal[0] = -(pv.y - pu.y) / len, normal[1] = (pv.x - pu.x) / len;
+    if ((p2.x - pu.x) * normal[0] + (p2.y - pu.y) * normal[1] < 0) normal[0] = -normal[0], normal[1] = -normal[1];
+    base[0] = pu.x, base[1] = pu.y, apex1[0] = p1.x, apex1[1] = p1.y, apex2[0] = p2.x, apex2[1] = p2.y;
+    facet.normal = normal;
+    facet.base = base;
+    facet.apex1 = apex1;
+    facet.apex2 = apex2;
+  }
   double c = 0;
-  for (int k = 0; k < K; ++k) c += cost.facet_cost(s.grad[k], t.grad[k], 2);
+  for (int k = 0; k < K; ++k) {
+    facet.g1 = s.grad[k];
+    facet.g2 = t.grad[k];
+    if (cost.facet_geometry) {
+      facet.z_base = values[static_cast<std::size_t>(u) * K + k];
+      facet.z_apex1 = values[static_cast<std::size_t>(a1) * K + k];
+      facet.z_apex2 = values[static_cast<std::size_t>(a2) * K + k];
+    }
+    c += cost.facet_cost(facet);
+  }
   if (cost.form == CostForm::facet_weighted_content) c *= (s.area + t.area) / 3.0;
   return c;
 }
@@ -83,7 +120,7 @@ double total_cost(const Mesh2& mesh, const std::vector<float>& values, int K, co
     const index_t s = tri_of(e), t = tri_of(mesh.opp[e]);
     const TriangleField fs = triangle_field(mesh, values, K, mesh.tri[3 * s], mesh.tri[3 * s + 1], mesh.tri[3 * s + 2]);
     const TriangleField ft = triangle_field(mesh, values, K, mesh.tri[3 * t], mesh.tri[3 * t + 1], mesh.tri[3 * t + 2]);
-    sum += edge_cost(cost, K, fs, ft);
+    sum += edge_cost(mesh, values, cost, K, fs, ft, mesh.tri[e], mesh.tri[next_edge(e)]);
   }
   return sum;
 }
@@ -107,10 +144,13 @@ FlipCosts flip_costs(const Mesh2& mesh, const std::vector<float>& values, int K,
   const TriangleField t1 = triangle_field(mesh, values, K, b, a, d);
   const TriangleField t0n = triangle_field(mesh, values, K, d, c, a);
   const TriangleField t1n = triangle_field(mesh, values, K, c, d, b);
-  out.before = edge_cost(cost, K, t0, t1) + edge_cost(cost, K, t0, n_bc) + edge_cost(cost, K, t0, n_ca) +
-               edge_cost(cost, K, t1, n_ad) + edge_cost(cost, K, t1, n_db);
-  out.after = edge_cost(cost, K, t0n, t1n) + edge_cost(cost, K, t1n, n_bc) + edge_cost(cost, K, t0n, n_ca) +
-              edge_cost(cost, K, t0n, n_ad) + edge_cost(cost, K, t1n, n_db);
+  auto edge = [&](const TriangleField& s, const TriangleField& t, index_t u, index_t v) {
+    return edge_cost(mesh, values, cost, K, s, t, u, v);
+  };
+  out.before = edge(t0, t1, a, b) + edge(t0, n_bc, b, c) + edge(t0, n_ca, c, a) + edge(t1, n_ad, a, d) +
+               edge(t1, n_db, d, b);
+  out.after = edge(t0n, t1n, c, d) + edge(t1n, n_bc, b, c) + edge(t0n, n_ca, c, a) + edge(t0n, n_ad, a, d) +
+              edge(t1n, n_db, d, b);
   return out;
 }
 
