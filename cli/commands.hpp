@@ -7,3 +7,12 @@
 // over an image directory or the synthetic scenes. 0 on success (and for
 // --help), 2 on any error.
 int run_eval_command(int argc, char** argv);
+
+// `ddtscale grid`: scattered points (x, y, values) to a regular grid image
+// by DDT (gridding.hpp). 0 on success (and for --help), 1 on a runtime
+// error, 2 on bad arguments.
+int run_grid_command(int argc, char** argv);
+
+// `ddtscale scene`: render an analytic test scene (synthetic_scenes.hpp) to
+// an image file. 0 on success, 1 on a runtime error, 2 on bad arguments.
+int run_scene_command(int argc, char** argv);

@@ -4,9 +4,13 @@
 
 #include "commands.hpp"
 
+#include "classic_resize.hpp"
+#include "comparison.hpp"
 #include "costs.hpp"
 #include "error.hpp"
 #include "image_io.hpp"
+#include "image_mesh.hpp"
+#include "mesh_view.hpp"
 #include "upscale.hpp"
 
 #include <CLI/CLI.hpp>
@@ -29,6 +33,11 @@ struct Arguments {
   long long max_pixels = 1LL << 28;
   bool verbose = false;
   bool quiet = false;
+  std::string optimizer = "lawson";
+  ddt::AnnealOptions anneal;  // --seed and the --anneal-* schedule
+  std::string compare;    // classic method shown left of DDT, or empty
+  std::string mesh_view;  // path of the mesh drawing, or empty
+  std::string mesh_roi;   // x,y,w,h
 };
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
@@ -62,7 +71,7 @@ int run_upscale(int argc, char** argv) {
   CLI::App app{"ddtscale: enlarge an image by data-dependent triangulation (DDT).\n"
                "The pixels become a heightfield, triangulated (Delaunay, then edge flips that lower a cost)\n"
                "so that long thin triangles follow the edges; the piecewise-linear surface is rendered\n"
-               "at the new size. Subcommands: `ddtscale eval --help`.",
+               "at the new size. Subcommands: `ddtscale eval --help`, `ddtscale scene --help`.",
                "ddtscale"};
   app.add_option("input", args.input, "input image (PNG, JPEG, TIFF, EXR, ... anything OpenImageIO reads)")->required();
   app.add_option("output", args.output,
@@ -83,6 +92,41 @@ int run_upscale(int argc, char** argv) {
   app.add_option("--max-pixels", args.max_pixels, "refuse outputs with more pixels than this")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  app.add_option("--compare", args.compare,
+                 "write one image: this classic method (OpenImageIO filter) on the left, DDT on the right")
+      ->check(CLI::IsMember(ddt::classic_methods()));
+  app.add_option("--mesh", args.mesh_view,
+                 "also draw the optimized triangulation over the input (.svg, or .png and other raster formats)");
+  app.add_option("--mesh-roi", args.mesh_roi,
+                 "x,y,w,h: the input region the mesh view shows (default: all of an image up to 256x256, "
+                 "else its central 128x128)");
+  bool list_costs = false;
+  app.add_flag("--list-costs", list_costs, "print the cost names, one a line, and exit");
+  app.add_option("--optimizer", args.optimizer,
+                 "lawson (generalized Lawson: only cost-lowering flips) or anneal (simulated annealing over the "
+                 "same flips, then a Lawson pass)")
+      ->check(CLI::IsMember(ddt::optimizer_names()))
+      ->capture_default_str();
+  app.add_option("--seed", args.anneal.seed, "anneal: seed of the random moves (same seed, same result)")
+      ->capture_default_str();
+  app.add_option("--anneal-t0", args.anneal.initial_temperature,
+                 "anneal: initial temperature in cost units; 0 = automatic (see --anneal-accept)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--anneal-accept", args.anneal.initial_acceptance,
+                 "anneal: automatic T0 accepts the mean uphill flip with this probability")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  app.add_option("--anneal-cooling", args.anneal.cooling, "anneal: T is multiplied by this after each step")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  app.add_option("--anneal-steps", args.anneal.temperature_steps, "anneal: number of temperature steps")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--anneal-moves", args.anneal.moves_per_edge,
+                 "anneal: random flip proposals per interior edge at each temperature")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_flag("-v,--verbose", args.verbose, "report iterations, flips, cost and the time of each stage");
   app.add_flag("-q,--quiet", args.quiet, "print nothing but errors");
   app.footer(
@@ -90,10 +134,25 @@ int run_upscale(int argc, char** argv) {
       "  sederberg       weight = mean over the triangle's edges of |g1||g2| - g1.g2 (default)\n"
       "  variance        weight = variance of the three vertex values\n"
       "  sederberg-edge  classic 2D DDT: sum over interior edges of |g1||g2| - g1.g2\n"
+      "  abn, jnd, dlp, dp   weight = mean over the triangle's edges of a classic cost of Dyn, Levin and\n"
+      "                  Rippa (1990): angle between normals, jump in normal derivatives, deviation from\n"
+      "                  linear polynomials, distance from planes\n"
+      "  abn-edge, jnd-edge, dlp-edge, dp-edge   the same costs as plain sums over interior edges\n"
+      "Optimizers: lawson flips while a flip lowers the cost; anneal (simulated annealing) also takes\n"
+      "flips that raise it, with probability exp(-increase / T), T cooling geometrically from T0 over\n"
+      "--anneal-steps steps of --anneal-moves proposals per edge, then finishes with lawson.\n"
       "Alpha is interpolated on the same mesh and never drives flips.\n"
       "Output pixel (X, Y) samples the input at ((X + 0.5) / sx, (Y + 0.5) / sy); outside the samples'\n"
       "hull it takes the value of the nearest hull point.\n"
-      "Example: ddtscale in.png out.exr --scale 10");
+      "Examples:\n"
+      "  ddtscale in.png out.exr --scale 10\n"
+      "  ddtscale in.png side.png --scale 8 --compare bicubic --mesh mesh.svg --mesh-roi 40,40,64,64");
+  // --list-costs needs no files: answer it before the positional checks.
+  for (int i = 1; i < argc; ++i)
+    if (std::strcmp(argv[i], "--list-costs") == 0) {
+      for (const auto& c : ddt::cost_functions()) std::cout << c.name << "\n";
+      return 0;
+    }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp&) {
@@ -107,6 +166,13 @@ int run_upscale(int argc, char** argv) {
   try {
     ddt::find_cost(args.cost);  // fail fast on a typo
     ddt::check_output_path(args.output, args.input);
+    ddt::PixelRegion roi;
+    if (!args.mesh_roi.empty()) roi = ddt::parse_region(args.mesh_roi);
+    if (!args.mesh_view.empty()) {
+      const bool svg = args.mesh_view.size() > 4 && args.mesh_view.substr(args.mesh_view.size() - 4) == ".svg";
+      ddt::check_output_path(args.mesh_view, args.input, !svg);
+      if (args.mesh_view == args.output) throw ddt::Error("--mesh must name a file other than the output");
+    }
     auto log = [&](const std::string& line) {
       if (args.verbose) std::cerr << line << "\n";
     };
@@ -123,8 +189,30 @@ int run_upscale(int argc, char** argv) {
     options.alpha_channel = file.alpha_channel;
     options.optimize = !args.no_optimize;
     options.relative_tolerance = args.tolerance;
+    options.optimizer = args.optimizer;
+    options.anneal = args.anneal;
     if (args.verbose) options.log = log;
     ddt::Image out = ddt::upscale(file.image, out_w, out_h, options);
+    if (!args.compare.empty()) {
+      t0 = std::chrono::steady_clock::now();
+      const ddt::Image classic = ddt::classic_resize(file.image, out_w, out_h, args.compare);
+      out = ddt::side_by_side(classic, out, std::max(2, out_w / 256), 0.0f, file.alpha_channel);
+      log("compare: " + args.compare + " | ddt, " + std::to_string(seconds_since(t0)) + " s");
+    }
+    if (!args.mesh_view.empty()) {
+      t0 = std::chrono::steady_clock::now();
+      const int w = file.image.width, h = file.image.height;
+      if (args.mesh_roi.empty() && (w > 256 || h > 256))
+        roi = {std::max(0, w / 2 - 64), std::max(0, h / 2 - 64), std::min(w, 128), std::min(h, 128)};
+      ddt::UpscaleOptions plain = options;
+      plain.optimize = false;
+      plain.log = nullptr;
+      options.log = nullptr;
+      const ddt::Mesh2 initial = ddt::image_mesh(file.image, plain);
+      const ddt::Mesh2 optimized = ddt::image_mesh(file.image, options);
+      ddt::write_mesh_view(args.mesh_view, optimized, &initial, file.image, roi);
+      log("mesh: " + args.mesh_view + ", " + std::to_string(seconds_since(t0)) + " s");
+    }
 
     t0 = std::chrono::steady_clock::now();
     ddt::write_image(args.output, out, file.format, file.alpha_channel);
@@ -148,5 +236,7 @@ int run_upscale(int argc, char** argv) {
 
 int main(int argc, char** argv) {
   if (argc >= 2 && std::strcmp(argv[1], "eval") == 0) return run_eval_command(argc - 1, argv + 1);
+  if (argc >= 2 && std::strcmp(argv[1], "grid") == 0) return run_grid_command(argc - 1, argv + 1);
+  if (argc >= 2 && std::strcmp(argv[1], "scene") == 0) return run_scene_command(argc - 1, argv + 1);
   return run_upscale(argc, argv);
 }

@@ -7,6 +7,8 @@ packages=(
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev
   libopenimageio-dev openimageio-tools libopenexr-dev
   libeigen3-dev doctest-dev libtbb-dev libcli11-dev
+  libteem-dev
+  libcsv-dev
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -17,6 +17,15 @@
 //               the 2D edge cost; generalized in the paper).
 // and the classic 2D DDT sum over facets (Dyn, Levin, Rippa 1990):
 //   sederberg-edge: cost(K) = sum over interior facets of c(f).
+// The classic facet costs of N. Dyn, D. Levin, S. Rippa, "Data dependent
+// triangulations for piecewise linear interpolation", IMA J. Numer. Anal.
+// 10 (1990) 137-154 (DLR), generalized to facets as the paper does for
+// Sederberg's (formulas at each function below), each in both forms:
+//   abn, abn-edge   angle between the normals of the two graphs
+//   jnd, jnd-edge   jump of the normal derivative across the facet
+//   dlp, dlp-edge   deviation of each plane from the other simplex's apex value
+//   dp,  dp-edge    the same, measured perpendicular to the planes
+// They vanish when the two simplices lie in one plane, as Sederberg's does.
 // For the weighted-content form with a facet cost, the total rewrites as
 //   sum over interior facets f of c(f) * (content(s1) + content(s2)) / (n+1),
 // which is how the optimizer evaluates it.
@@ -74,6 +83,15 @@ double variance_weight(const double* values, int count);
 // and point the same way, in particular when the two planes coincide).
 double sederberg_cost(const double* g1, const double* g2, int dim);
 double sederberg_facet_cost(const FacetPair& facet);  // the same, as a facet cost
+
+// The classic costs of Dyn, Levin and Rippa (1990) for one facet and one
+// channel, in any dimension (see costs.cpp for each formula and its source).
+// Values are compared with distances as stored (pixel units), so abn and dp
+// depend on the value scale; jnd and dlp scale linearly with it.
+double abn_facet_cost(const FacetPair& facet);  // radians, in [0, pi)
+double jnd_facet_cost(const FacetPair& facet);  // reads normal
+double dlp_facet_cost(const FacetPair& facet);  // reads base, apex1, apex2
+double dp_facet_cost(const FacetPair& facet);   // reads base, apex1, apex2
 
 // Every cost the optimizer knows, in the order `--help` lists them.
 const std::vector<CostFunction>& cost_functions();

@@ -4,7 +4,10 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <OpenImageIO/filesystem.h>
+
 #include <filesystem>
+#include <fstream>
 #include <random>
 #include <system_error>
 #include <unistd.h>
@@ -84,7 +87,7 @@ ImageFile read_image(const std::string& path) {
   return file;
 }
 
-void check_output_path(const std::string& output, const std::string& input) {
+void check_output_path(const std::string& output, const std::string& input, bool image_format) {
   std::error_code ec;
   if (output.empty()) throw Error("no output file given");
   if (!input.empty() && fs::exists(output, ec) && fs::equivalent(output, input, ec))
@@ -96,6 +99,7 @@ void check_output_path(const std::string& output, const std::string& input) {
   if (dir.empty()) dir = ".";
   if (!fs::is_directory(dir, ec)) throw Error("output directory '" + dir.string() + "' does not exist");
   if (::access(dir.c_str(), W_OK) != 0) throw Error("output directory '" + dir.string() + "' is not writable");
+  if (!image_format) return;
   auto probe = OIIO::ImageOutput::create(output);
   if (!probe) throw Error("cannot write '" + output + "': no image format for extension '" +
                           fs::path(output).extension().string() + "'");
@@ -135,6 +139,45 @@ void write_image(const std::string& path, const Image& image, SampleFormat sourc
   std::error_code ec;
   fs::rename(tmp, target, ec);
   if (ec) fail(ec.message());
+}
+
+void write_file_atomically(const std::string& path, const std::string& content) {
+  fs::path target(path);
+  fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+  std::random_device rd;
+  std::string tmp_name = ".";
+  tmp_name += target.filename().string();
+  tmp_name += ".tmp" + std::to_string(rd() % 1000000);
+  const fs::path tmp = dir / tmp_name;
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    out << content;
+    out.close();
+    if (!out) {
+      std::error_code ec;
+      fs::remove(tmp, ec);
+      throw Error("cannot write '" + path + "'");
+    }
+  }
+  std::error_code ec;
+  fs::rename(tmp, target, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw Error("cannot write '" + path + "': " + ec.message());
+  }
+}
+
+std::vector<unsigned char> encode_png(const Image& image) {
+  std::vector<unsigned char> bytes;
+  OIIO::Filesystem::IOVecOutput memory(bytes);
+  auto out = OIIO::ImageOutput::create("png");
+  if (!out) throw Error("PNG support is missing from OpenImageIO");
+  OIIO::ImageSpec spec(image.width, image.height, image.channels, OIIO::TypeDesc::UINT8);
+  out->set_ioproxy(&memory);
+  if (!out->open("memory.png", spec) || !out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data()) ||
+      !out->close())
+    throw Error("cannot encode PNG: " + first_line(out->geterror()));
+  return bytes;
 }
 
 Image image_from_buf(const OIIO::ImageBuf& buf) {

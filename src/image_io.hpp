@@ -11,6 +11,7 @@
 #include <OpenImageIO/imagebuf.h>
 
 #include <string>
+#include <vector>
 
 namespace ddt {
 
@@ -33,12 +34,20 @@ ImageFile read_image(const std::string& path);
 void write_image(const std::string& path, const Image& image,
                  SampleFormat source_format, int alpha_channel = -1);
 
+// Writes `content` to `path` atomically (temporary file beside it, then
+// rename), for text outputs such as SVG and CSV.
+void write_file_atomically(const std::string& path, const std::string& content);
+
+// Encodes 8-bit PNG bytes in memory (for embedding, e.g. in SVG).
+std::vector<unsigned char> encode_png(const Image& image);
+
 // Conversions between ddt::Image and OpenImageIO's ImageBuf (float).
 Image image_from_buf(const OIIO::ImageBuf& buf);
 OIIO::ImageBuf buf_from_image(const Image& image);
 
 // Throws if `output` cannot be written: same file as `input`, or a directory
-// that does not exist or is not writable. Called before any long work.
-void check_output_path(const std::string& output, const std::string& input);
+// that does not exist or is not writable, or (when image_format) an
+// extension no image format claims. Called before any long work.
+void check_output_path(const std::string& output, const std::string& input, bool image_format = true);
 
 }  // namespace ddt

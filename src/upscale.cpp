@@ -52,6 +52,8 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
   if (src.empty() || src.width <= 0 || src.height <= 0) throw Error("the input image is empty");
   if (out_width < 1 || out_height < 1) throw Error("the output size must be at least 1x1");
   const CostFunction& cost = find_cost(options.cost);
+  check_optimizer_name(options.optimizer);
+  if (options.optimizer == "anneal") check_anneal_options(options.anneal);
   UpscaleStats local;
   auto log = [&](const std::string& line) {
     if (options.log) options.log(line);
@@ -80,7 +82,24 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
         std::snprintf(line, sizeof line, "optimize: iteration %d, %lld flips, cost %.9g", iteration, flips, total);
         log(line);
       };
-    const LawsonStats ls = optimize_lawson(mesh, drive, K, cost, lawson);
+    LawsonStats ls;
+    if (options.optimizer == "anneal") {
+      AnnealOptions anneal = options.anneal;
+      if (options.log)
+        anneal.on_step = [&](int step, double temperature, long long flips, double total) {
+          char line[160];
+          std::snprintf(line, sizeof line, "anneal: step %d, T %.4g, %lld flips, cost %.9g", step, temperature,
+                        flips, total);
+          log(line);
+        };
+      const AnnealStats as = optimize_anneal(mesh, drive, K, cost, anneal, lawson);
+      ls = as.lawson;  // the final Lawson pass; totals cover the whole run
+      ls.flips += as.accepted;
+      ls.cost_before = as.cost_before;
+      ls.cost_after = as.cost_after;
+    } else {
+      ls = optimize_lawson(mesh, drive, K, cost, lawson);
+    }
     local.iterations = ls.iterations;
     local.flips = ls.flips;
     local.cost_before = ls.cost_before;

@@ -12,6 +12,7 @@
 //
 // Errors: throws ddt::Error (bad options, empty image).
 
+#include "annealing.hpp"
 #include "image.hpp"
 
 #include <OpenImageIO/imagebuf.h>
@@ -28,6 +29,8 @@ struct UpscaleOptions {
   bool optimize = true;             // false: render the initial Delaunay mesh
   double relative_tolerance = 1e-9; // a flip must lower the local cost by more than this fraction
   int max_iterations = 10000;       // safety bound on Lawson sweeps
+  std::string optimizer = "lawson"; // "lawson" or "anneal" (simulated annealing, then Lawson; annealing.hpp)
+  AnnealOptions anneal;             // the annealing schedule and seed, when optimizer == "anneal"
   std::function<void(const std::string&)> log;  // verbose lines; may be empty
 };
 

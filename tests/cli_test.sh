@@ -46,6 +46,26 @@ run_ok "verbose" "$work/in.png" "$work/v.tif" --scale 2 --verbose --cost sederbe
 grep -q "flips" "$work/err.txt" && grep -q "render" "$work/err.txt" && ok || bad "--verbose reports no stages"
 run_ok "no optimize" "$work/in.png" "$work/n.png" --scale 2 --no-optimize
 
+# Comparison, mesh view, scenes.
+run_ok "compare" "$work/in.png" "$work/side.exr" --scale 3 --compare bicubic
+[ "$(size_of "$work/side.exr")" = "146x48" ] && ok || bad "compare: size $(size_of "$work/side.exr")"
+run_ok "compare plain" "$work/in.png" "$work/plain.exr" --scale 3
+oiiotool "$work/side.exr" --cut 72x48+74+0 -o "$work/right.exr"
+oiiotool "$work/right.exr" "$work/plain.exr" --diff >/dev/null 2>&1 && ok || bad "compare: right half differs from plain DDT"
+for m in nearest bilinear lanczos; do run_ok "compare $m" "$work/in.png" "$work/side_$m.png" --scale 2 --compare "$m"; done
+run_fail "compare unknown" "$work/in.png" "$work/o.png" --scale 2 --compare magic
+run_ok "mesh svg" "$work/in.png" "$work/m.png" --scale 2 --mesh "$work/mesh.svg"
+grep -q "<svg" "$work/mesh.svg" && grep -q "</svg>" "$work/mesh.svg" && grep -q "data:image/png;base64" "$work/mesh.svg" && ok || bad "mesh.svg malformed"
+run_ok "mesh png roi" "$work/in.png" "$work/m.png" --scale 2 --mesh "$work/mesh.png" --mesh-roi 4,4,12,8
+[ -s "$work/mesh.png" ] && ok || bad "mesh.png not written"
+run_fail "mesh roi outside" "$work/in.png" "$work/m.png" --scale 2 --mesh "$work/mesh2.png" --mesh-roi 20,4,12,8
+run_fail "mesh roi malformed" "$work/in.png" "$work/m.png" --scale 2 --mesh "$work/mesh2.png" --mesh-roi 4,4
+run_ok "scene" scene edge_30 "$work/scene.png" --size 40x30
+[ "$(size_of "$work/scene.png")" = "40x30" ] && ok || bad "scene: size"
+run_fail "scene unknown" scene nope "$work/scene.png"
+run_ok "list costs" --list-costs
+grep -qx "variance" "$work/out.txt" && ok || bad "--list-costs lacks variance"
+
 # Degenerate images.
 oiiotool --pattern constant:color=0.5 1x1 3 -o "$work/one.png"
 oiiotool --pattern fill:left=0:right=1 9x1 1 -o "$work/row.png"
@@ -55,7 +75,7 @@ for f in one row col flat; do run_ok "degenerate $f" "$work/$f.png" "$work/${f}_
 
 # --help documents every option.
 run_ok "help" --help
-for opt in --scale --width --height --cost --cost-channel --no-optimize --tolerance --max-pixels --verbose --quiet; do
+for opt in --scale --width --height --cost --cost-channel --no-optimize --tolerance --max-pixels --compare --mesh --mesh-roi --list-costs --verbose --quiet; do
   grep -q -- "$opt" "$work/out.txt" && ok || bad "--help does not mention $opt"
 done
 

@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Regenerates the golden outputs of the regression test on purpose:
+# every input in images/regression/inputs, every DDT cost, at x3, to EXR.
+# Run it only when a change of output is intended, look at the new images,
+# and say why in the commit. Nothing else writes the goldens.
+#   bash scripts/regenerate_goldens.sh [path/to/ddtscale]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bin="${1:-build/ddtscale}"
+[ -x "$bin" ] || { echo "build ddtscale first (cmake --build build)" >&2; exit 1; }
+costs=$("$bin" --list-costs)
+rm -f images/regression/golden/*.exr
+for input in images/regression/inputs/*.png; do
+  name=$(basename "$input" .png)
+  for cost in $costs; do
+    "$bin" "$input" "images/regression/golden/${name}__${cost}__x3.exr" --scale 3 --cost "$cost" --quiet
+  done
+done
+ls images/regression/golden | wc -l | xargs echo "goldens written:"

@@ -1,0 +1,64 @@
+// Golden-image regression: every reference input in images/regression/inputs,
+// upscaled x3 with every DDT cost, must match its golden output in
+// images/regression/golden. Goldens change only through
+// scripts/regenerate_goldens.sh, on purpose.
+
+#include "costs.hpp"
+#include "image_io.hpp"
+#include "upscale.hpp"
+
+#include <OpenImageIO/imagebufalgo.h>
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <filesystem>
+
+using namespace ddt;
+namespace fs = std::filesystem;
+
+namespace {
+const fs::path regression_dir = fs::path(DDTSCALE_SOURCE_DIR) / "images" / "regression";
+// Float goldens of the same computation agree to rounding; allow a little
+// for compilers that contract multiply-adds differently.
+constexpr double tolerance = 1e-5;
+}  // namespace
+
+TEST_CASE("regression: every input and cost matches its golden output") {
+  std::vector<fs::path> inputs;
+  for (const auto& entry : fs::directory_iterator(regression_dir / "inputs"))
+    if (entry.path().extension() == ".png") inputs.push_back(entry.path());
+  std::sort(inputs.begin(), inputs.end());
+  REQUIRE(inputs.size() >= 5);
+  int compared = 0;
+  for (const fs::path& input : inputs) {
+    const ImageFile file = read_image(input.string());
+    for (const CostFunction& cost : cost_functions()) {
+      const std::string name = input.stem().string() + "__" + cost.name + "__x3";
+      CAPTURE(name);
+      const fs::path golden_path = regression_dir / "golden" / (name + ".exr");
+      // A new cost needs goldens: run scripts/regenerate_goldens.sh and commit them.
+      REQUIRE_MESSAGE(fs::exists(golden_path), "missing golden " << golden_path.string()
+                                                                 << " (scripts/regenerate_goldens.sh makes it)");
+      const ImageFile golden = read_image(golden_path.string());
+      UpscaleOptions options;
+      options.cost = cost.name;
+      options.alpha_channel = file.alpha_channel;
+      const Image out = upscale(file.image, 3 * file.image.width, 3 * file.image.height, options);
+      REQUIRE(out.width == golden.image.width);
+      REQUIRE(out.height == golden.image.height);
+      REQUIRE(out.channels == golden.image.channels);
+      double largest = 0;
+      for (std::size_t i = 0; i < out.pixels.size(); ++i)
+        largest = std::max(largest, std::abs(double(out.pixels[i]) - golden.image.pixels[i]));
+      if (largest > tolerance) {
+        OIIO::ImageBuf diff = OIIO::ImageBufAlgo::absdiff(buf_from_image(out), buf_from_image(golden.image));
+        const std::string diff_path = (fs::current_path() / ("regression_diff_" + name + ".exr")).string();
+        diff.write(diff_path);
+        MESSAGE("largest difference " << largest << "; difference image written to " << diff_path);
+      }
+      CHECK(largest <= tolerance);
+      ++compared;
+    }
+  }
+  MESSAGE("compared " << compared << " outputs with their goldens");
+}
