@@ -16,3 +16,14 @@ int run_grid_command(int argc, char** argv);
 // `ddtscale scene`: render an analytic test scene (synthetic_scenes.hpp) to
 // an image file. 0 on success, 1 on a runtime error, 2 on bad arguments.
 int run_scene_command(int argc, char** argv);
+
+// Volumes by data-dependent tetrahedrization (volume_upscale.hpp):
+//   ddtscale in.nrrd out.nrrd --scale 4   (chosen when any argument names a
+//                                          .nrrd or .nhdr file)
+//   ddtscale volume-eval ...              the paper's 3D experiments
+//   ddtscale volume-field ...             write an analytic test volume
+// is_volume_command tells main() whether to dispatch here; run_volume_command
+// takes the whole command line (argv[0] the program). 0 on success (and for
+// --help), 1 on a runtime error, 2 on bad arguments.
+bool is_volume_command(int argc, char** argv);
+int run_volume_command(int argc, char** argv);

@@ -79,6 +79,12 @@ int run_eval_command(int argc, char** argv) {
                      ddt::cost_names_joined() + ")")
       ->delimiter(',');
   app.add_flag("--luma-cost", luma_cost, "DDT flips decided on luminance only");
+  std::string optimizer = "lawson";
+  std::uint64_t seed = 1;
+  app.add_option("--optimizer", optimizer, "DDT optimizer of every ddt method: lawson or anneal")
+      ->check(CLI::IsMember(ddt::optimizer_names()))
+      ->capture_default_str();
+  app.add_option("--seed", seed, "seed of --optimizer anneal")->capture_default_str();
   app.add_option("--csv", csv_path, "Write every score to this CSV file");
   auto* synthetic_flag = app.add_flag("--synthetic", synthetic, "Score on the analytic scenes instead of a set");
   app.add_option("--size", size, "Width and height of the synthetic LR renderings")->capture_default_str();
@@ -98,6 +104,8 @@ int run_eval_command(int argc, char** argv) {
 
     ddt::UpscaleOptions ddt_options;
     ddt_options.luma_cost = luma_cost;
+    ddt_options.optimizer = optimizer;
+    ddt_options.anneal.seed = seed;
     ddt::EvalOptions options;
     options.scales = scales;
     options.methods = ddt::make_eval_methods(methods, costs, ddt_options);

@@ -137,8 +137,7 @@ int run_grid_command(int argc, char** argv) {
   app.add_option("--size", size_text, "grid size WIDTHxHEIGHT in pixels (e.g. 512x512; one number: square)")
       ->required();
   app.add_option("--bounds", bounds_text,
-                 "xmin,ymin,xmax,ymax: the grid's outer edges (default: the points' bounding box); use\n"
-                 "--bounds=... when xmin is negative");
+                 "xmin,ymin,xmax,ymax: the grid's outer edges (default: the points' bounding box)");
   app.add_option("--columns", columns_text,
                  "x,y,value[,value...]: the columns to use, by header name or 1-based number (default: x, y\n"
                  "are columns 1, 2 and every further column is a value)");
@@ -194,6 +193,7 @@ int run_grid_command(int argc, char** argv) {
     ddt::check_output_path(output, input);
 
     ddt::PointReadOptions read_options;
+    read_options.float_values = true;
     if (!columns_text.empty()) read_options.columns = split_commas(columns_text);
     if (!input_nodata_text.empty()) read_options.input_nodata = parse_double(input_nodata_text, "--input-nodata", true);
     if (!nodata_text.empty()) options.nodata = static_cast<float>(parse_double(nodata_text, "--nodata", true));
@@ -213,14 +213,15 @@ int run_grid_command(int argc, char** argv) {
     options.relative_tolerance = tolerance;
     if (verbose) options.log = log;
     {
-      std::string line = "read: " + input + ", " + std::to_string(table.lines_read) + " points, " +
+      std::string line = "read: " + input + ", " + std::to_string(table.lines_read) + " lines, " +
+                         std::to_string(table.points.size()) + " distinct points, " +
                          std::to_string(C) + " value channel" + (C == 1 ? "" : "s") + " (";
       for (int k = 0; k < C; ++k) line += (k ? ", " : "") + table.channel_names[k];
       line += "), " + std::to_string(seconds_since(t0)) + " s";
       log(line);
     }
 
-    std::vector<float> values(table.values.begin(), table.values.end());
+    const std::vector<float> values(table.values.begin(), table.values.end());  // in range: float_values
     ddt::GridStats stats;
     const ddt::Image grid = ddt::grid_points(table.points, values, C, options, &stats);
 

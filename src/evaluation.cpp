@@ -113,7 +113,8 @@ std::string number(double v) {
 }  // namespace
 
 std::vector<std::string> eval_method_names() {
-  return {"ddt", "ddt-<cost>", "delaunay", "bicubic", "bicubic-oiio", "lanczos", "bilinear", "nearest"};
+  return {"ddt", "ddt-<cost>", "ddt-linear", "ddt-linear-<cost>", "delaunay", "delaunay-cubic",
+          "bicubic", "bicubic-oiio", "lanczos", "bilinear", "nearest"};
 }
 
 std::vector<EvalMethod> make_eval_methods(const std::vector<std::string>& names,
@@ -126,21 +127,35 @@ std::vector<EvalMethod> make_eval_methods(const std::vector<std::string>& names,
     methods.push_back(std::move(m));
   };
   for (const auto& name : names) {
-    if (name == "ddt") {
-      if (ddt_costs.empty()) add(ddt_method("ddt", ddt_options));
-      for (const auto& cost : ddt_costs) {
-        UpscaleOptions o = ddt_options;
-        o.cost = cost;
-        add(ddt_method("ddt-" + cost, o));
+    // ddt[-<render>][-<cost>] and delaunay[-<render>]: render is cubic (the
+    // default) or linear (the paper's surface).
+    std::string rest = name;
+    UpscaleOptions o = ddt_options;
+    const bool is_ddt = rest == "ddt" || rest.rfind("ddt-", 0) == 0;
+    const bool is_delaunay = rest == "delaunay" || rest.rfind("delaunay-", 0) == 0;
+    if (is_ddt || is_delaunay) {
+      rest = rest.substr(is_ddt ? 3 : 8);
+      for (const std::string render : {"linear", "cubic"})
+        if (rest == "-" + render || rest.rfind("-" + render + "-", 0) == 0) {
+          o.render = render;
+          rest = rest.substr(render.size() + 1);
+        }
+      if (is_delaunay) {
+        if (!rest.empty()) throw Error("unknown method '" + name + "' (delaunay takes -linear or -cubic)");
+        o.optimize = false;
+        add(ddt_method(name, o));
+      } else if (!rest.empty()) {
+        o.cost = rest.substr(1);
+        add(ddt_method(name, o));
+      } else if (ddt_costs.empty()) {
+        add(ddt_method(name, o));
+      } else {
+        for (const auto& cost : ddt_costs) {
+          UpscaleOptions oc = o;
+          oc.cost = cost;
+          add(ddt_method(name + "-" + cost, oc));
+        }
       }
-    } else if (name.rfind("ddt-", 0) == 0 && name.size() > 4) {
-      UpscaleOptions o = ddt_options;
-      o.cost = name.substr(4);
-      add(ddt_method(name, o));
-    } else if (name == "delaunay") {
-      UpscaleOptions o = ddt_options;
-      o.optimize = false;
-      add(ddt_method(name, o));
     } else if (name == "bicubic") {
       // The protocol's reference bicubic, not OIIO's: the published rows were made with MATLAB.
       add({name, [](const Image& lr, int w, int h) { return matlab_imresize_bicubic(lr, w, h); }});

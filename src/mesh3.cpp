@@ -83,7 +83,7 @@ const char* flip_kind_name(FlipKind kind) {
   return "?";
 }
 
-bool edge_ring(const Mesh3& mesh, index_t t, index_t a, index_t b, EdgeRing& ring) {
+bool edge_ring(const Mesh3& mesh, index_t t, index_t a, index_t b, EdgeRing& ring, int max_tets) {
   ring.a = a;
   ring.b = b;
   ring.closed = false;
@@ -109,7 +109,7 @@ bool edge_ring(const Mesh3& mesh, index_t t, index_t a, index_t b, EdgeRing& rin
       ring.closed = true;
       break;
     }
-    if (nf == max_ring) return false;
+    if (nf == max_tets) return false;
     // The vertex of `next` that is not a, b or ahead.
     index_t w = no_vertex;
     for (int i = 0; i < 4; ++i) {
@@ -137,7 +137,7 @@ bool edge_ring(const Mesh3& mesh, index_t t, index_t a, index_t b, EdgeRing& rin
     const index_t f = mesh.opp[4 * cur + local_index(mesh, cur, behind)];
     if (f == no_face) break;
     const index_t next = tet_of(f);
-    if (nf + nb == max_ring) return false;
+    if (nf + nb == max_tets) return false;
     index_t w = no_vertex;
     for (int i = 0; i < 4; ++i) {
       const index_t v = mesh.tet[4 * next + i];
@@ -182,7 +182,7 @@ bool plan_flip23(const Mesh3& mesh, index_t f, FlipPlan& plan) {
 
 int plan_edge_flips(const Mesh3& mesh, index_t t, index_t a, index_t b, FlipPlan plans[2]) {
   EdgeRing ring;
-  if (!edge_ring(mesh, t, a, b, ring)) return 0;
+  if (!edge_ring(mesh, t, a, b, ring, 4)) return 0;  // only rings of 2..4 flip
   int count = 0;
   if (ring.closed && ring.size == 3) {
     // 3-2: triangle w0 w1 w2 with a on one side and b on the other.

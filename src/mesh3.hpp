@@ -122,7 +122,8 @@ inline double signed_volume6(const Point3& p, const Point3& q, const Point3& r, 
 
 // The ring of edge a-b around tetrahedron t (which must contain a and b);
 // see the convention above. Returns false (and leaves `ring` partly
-// filled) when more than max_ring tetrahedra surround the edge.
+// filled) when more than max_tets (<= max_ring) tetrahedra surround the
+// edge; the walk stops there, so a small max_tets makes it cheap.
 inline constexpr int max_ring = 8;
 struct EdgeRing {
   index_t a = no_vertex, b = no_vertex;
@@ -131,7 +132,7 @@ struct EdgeRing {
   std::array<index_t, max_ring> tets{};  // T_0 .. T_{m-1} (slots)
   std::array<index_t, max_ring + 1> w{};  // w_0 .. w_m
 };
-bool edge_ring(const Mesh3& mesh, index_t t, index_t a, index_t b, EdgeRing& ring);
+bool edge_ring(const Mesh3& mesh, index_t t, index_t a, index_t b, EdgeRing& ring, int max_tets = max_ring);
 
 enum class FlipKind : std::uint8_t { flip23 = 0, flip32 = 1, flip44 = 2, flip22 = 3 };
 inline constexpr int flip_kind_count = 4;

@@ -12,11 +12,31 @@
 // the total by more than relative_tolerance times the local cost, so the
 // total strictly decreases and the procedure terminates.
 //
+// Regions (large meshes, in parallel). Lawson's result depends on the order
+// of the flips. A mesh of more than 2 * region_triangles triangles is cut
+// into regions of region_triangles consecutive triangle ids (meshes from
+// delaunay_triangulation list triangles by their smallest vertex, so on an
+// image a region is a band of rows). Phase 0 runs the procedure above in
+// every region at once; an edge whose test would touch a triangle of
+// another region (its two triangles and their four neighbours) is deferred.
+// Odd phases do the same on regions shifted by half a region, which hold
+// the deferred edges of the even phases' seams in their interior, and so on
+// until no edge is left; edges deferred by both partitions (triangles
+// longer than half a region) end in one sequential phase. Each region is
+// processed sequentially in a fixed order and only touches its own
+// triangles, so the result is the same for any number of threads: it
+// depends on the mesh, the values and region_triangles only. It differs
+// from the single-region order by the order of flips near region seams
+// (another local optimum, same criterion, same local optimality). Meshes up
+// to 2 * region_triangles triangles run as one region: exactly the
+// sequential procedure.
+//
 // Inputs:
 //   mesh         valid Mesh2 (check_mesh), modified in place
 //   values       #V by K vertex values driving the cost (row-major)
 //   K            number of value channels, 1..max_cost_channels
 //   cost         a CostFunction from costs.hpp
+// Threads: the calling TBB arena (all cores unless limited by the caller).
 // Complexity: O(#edges) per iteration; each test O(K).
 
 #include "costs.hpp"
@@ -32,23 +52,41 @@ inline constexpr int max_cost_channels = 8;
 struct LawsonOptions {
   double relative_tolerance = 1e-9;
   int max_iterations = 10000;
-  // Called after each iteration with (iteration, flips in it, total cost now).
+  // Triangles per region of the parallel schedule (see above); 0: the
+  // default (default_region_triangles), < 0: always one region.
+  long long region_triangles = 0;
+  // Specialized evaluators for the built-in costs (sederberg, sederberg-edge,
+  // variance): the same arithmetic as flip_costs, so the same decisions, and
+  // flat quadrilaterals (equal values at a, b, c, d) skipped, where these
+  // costs are exactly 0 before and after. false: flip_costs for every test.
+  bool fast_evaluation = true;
+  // Called after each iteration (each phase when running in regions) with
+  // (iteration, flips in it, total cost now).
   std::function<void(int, long long, double)> on_iteration;
+  // Called now and then with the number of edge tests made so far, from
+  // one thread at a time (maybe not the caller's); may be empty.
+  std::function<void(long long)> on_tests;
 };
 
+inline constexpr long long default_region_triangles = 1 << 17;
+
 struct LawsonStats {
-  int iterations = 0;
+  int iterations = 0;   // iterations (of the single region), or phases (regions)
   long long flips = 0;
   long long tests = 0;
+  long long skipped_flat = 0;  // tests decided by the flat shortcut
+  int regions = 1;             // regions of phase 0
   double cost_before = 0;
   double cost_after = 0;
 };
 
-// The total cost of the mesh, summed from scratch.
+// The total cost of the mesh, summed from scratch (in parallel, in fixed
+// chunks summed in order: the same result for any number of threads).
 double total_cost(const Mesh2& mesh, const std::vector<float>& values, int K, const CostFunction& cost);
 
 // Local cost of the configuration around half-edge e before and after
 // flipping it (other contributions are unchanged). Precondition: e interior.
+// The reference evaluation; the optimizer's fast paths reproduce it bit for bit.
 struct FlipCosts {
   double before = 0;
   double after = 0;

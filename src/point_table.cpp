@@ -24,6 +24,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <numeric>
 #include <string_view>
@@ -228,6 +229,8 @@ PointTable parse_point_table(std::istream& in, const std::string& name, const Po
         continue;
       }
       if (!std::isfinite(row[k])) throw Error(where + label + " " + quoted_field(f) + " is not a finite number");
+      if (k >= 2 && options.float_values && std::abs(row[k]) > std::numeric_limits<float>::max())
+        throw Error(where + label + " " + quoted_field(f) + " is beyond the 32-bit float range");
     }
     ++table.lines_read;
     if (drop) {

@@ -43,6 +43,7 @@ namespace ddt {
 struct PointReadOptions {
   std::vector<std::string> columns;     // empty: x, y, then every other column as values
   std::optional<double> input_nodata;   // drop points with this value (may be NaN)
+  bool float_values = false;            // values must fit a 32-bit float (else an error naming the line)
 };
 
 struct PointTable {

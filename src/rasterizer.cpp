@@ -1,8 +1,12 @@
 #include "rasterizer.hpp"
 
+#include "cubic_surface.hpp"
+#include "error.hpp"
+
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numeric>
 
@@ -27,7 +31,27 @@ struct Soup {
   std::vector<Point2> pos;      // output pixel space: pixel centres at integers
   std::vector<float> values;    // #pos by C
   std::vector<index_t> tris;    // counter-clockwise triples
+  // Cubic mode only: the mesh's input positions and per-vertex gradients
+  // (#V by C by 2), and the Bézier control values of each rim triangle
+  // (triangles from mesh_triangles on), C patches each.
+  const std::vector<Point2>* input_points = nullptr;
+  const std::vector<float>* gradients = nullptr;
+  index_t mesh_triangles = 0;
+  std::vector<std::array<double, 10>> rim_patches;
 };
+
+// The cubic patch of soup triangle t for channel c.
+std::array<double, 10> soup_patch(const Soup& soup, int C, index_t t, int c) {
+  if (t >= soup.mesh_triangles) return soup.rim_patches[static_cast<std::size_t>(t - soup.mesh_triangles) * C + c];
+  const index_t i0 = soup.tris[3 * t], i1 = soup.tris[3 * t + 1], i2 = soup.tris[3 * t + 2];
+  const auto& P = *soup.input_points;
+  const auto& G = *soup.gradients;
+  auto grad = [&](index_t v) { return &G[(static_cast<std::size_t>(v) * C + c) * 2]; };
+  double g0[2] = {grad(i0)[0], grad(i0)[1]}, g1[2] = {grad(i1)[0], grad(i1)[1]}, g2[2] = {grad(i2)[0], grad(i2)[1]};
+  return cubic_patch(P[i0], P[i1], P[i2], soup.values[static_cast<std::size_t>(i0) * C + c],
+                     soup.values[static_cast<std::size_t>(i1) * C + c],
+                     soup.values[static_cast<std::size_t>(i2) * C + c], g0, g1, g2);
+}
 
 void draw_triangle(const Soup& soup, int C, index_t t, int row_begin, int row_end, Image& out,
                    std::vector<unsigned char>& hits) {
@@ -55,6 +79,17 @@ void draw_triangle(const Soup& soup, int C, index_t t, int row_begin, int row_en
     dv1[c] = double(z1[c]) - z0[c];
     dv2[c] = double(z2[c]) - z0[c];
   }
+  const bool cubic = soup.gradients != nullptr;
+  std::array<std::array<double, 10>, 16> patch;
+  // The cubic stays within its triangle's vertex values: no overshoot, so
+  // no ringing beside edges, whatever the gradients say.
+  double lo[16], hi[16];
+  if (cubic)
+    for (int c = 0; c < C; ++c) {
+      patch[c] = soup_patch(soup, C, t, c);
+      lo[c] = std::min({double(z0[c]), double(z1[c]), double(z2[c])});
+      hi[c] = std::max({double(z0[c]), double(z1[c]), double(z2[c])});
+    }
   const Point2* edge[3][2] = {{&p0, &p1}, {&p1, &p2}, {&p2, &p0}};
   auto inside = [&](int x, int y) {
     const Point2 p{double(x), double(y)};
@@ -88,7 +123,13 @@ void draw_triangle(const Soup& soup, int C, index_t t, int row_begin, int row_en
       const double l1 = (r1 - ay * (x - p2.x)) / d1;
       const double l2 = (r2 - by * (x - p0.x)) / d2;
       float* px = row + static_cast<std::size_t>(x) * C;
-      for (int c = 0; c < C; ++c) px[c] = static_cast<float>(v0[c] + l1 * dv1[c] + l2 * dv2[c]);
+      if (cubic) {
+        const double l0 = 1.0 - l1 - l2;
+        for (int c = 0; c < C; ++c)
+          px[c] = static_cast<float>(std::clamp(eval_cubic_patch(patch[c], l0, l1, l2), lo[c], hi[c]));
+      } else {
+        for (int c = 0; c < C; ++c) px[c] = static_cast<float>(v0[c] + l1 * dv1[c] + l2 * dv2[c]);
+      }
       if (row_hits[x] < 255) ++row_hits[x];
     }
   }
@@ -138,6 +179,25 @@ void add_rim(const Mesh2& mesh, const std::vector<float>& values, int C, const R
     far_end[e] = add_vertex({pv.x + far * n.x, pv.y + far * n.y}, v);
     soup.tris.insert(soup.tris.end(), {v, u, far_start[e]});
     soup.tris.insert(soup.tris.end(), {v, far_start[e], far_end[e]});
+    if (soup.gradients) {
+      // The slab's value is the hull edge's cubic at the nearest edge point,
+      // a function of t, the position along u->v. In (v, u, Fu), t = l0; in
+      // (v, Fu, Fv), t = l0 + l2. A Bézier triangle of a function of
+      // l0 (+ l2) has control value d[i] (d[i + k]) at index ijk.
+      for (int pass = 0; pass < 2; ++pass)
+        for (int c = 0; c < C; ++c) {
+          const float* gu = &(*soup.gradients)[(static_cast<std::size_t>(u) * C + c) * 2];
+          const float* gv = &(*soup.gradients)[(static_cast<std::size_t>(v) * C + c) * 2];
+          const double dx = pv.x - pu.x, dy = pv.y - pu.y;
+          const double zu = values[static_cast<std::size_t>(u) * C + c], zv = values[static_cast<std::size_t>(v) * C + c];
+          const double d[4] = {zu, zu + (gu[0] * dx + gu[1] * dy) / 3, zv - (gv[0] * dx + gv[1] * dy) / 3, zv};
+          // order: 300, 030, 003, 210, 120, 021, 012, 102, 201, 111 as (i, k) of l0, l2 powers
+          const int ik[10][2] = {{3, 0}, {0, 0}, {0, 3}, {2, 0}, {1, 0}, {0, 1}, {0, 2}, {1, 2}, {2, 1}, {1, 1}};
+          std::array<double, 10> b;
+          for (int q = 0; q < 10; ++q) b[q] = d[pass == 0 ? ik[q][0] : ik[q][0] + ik[q][1]];
+          soup.rim_patches.push_back(b);
+        }
+    }
   }
   const double max_piece = M_PI / 3;  // keeps each fan triangle's far side beyond `far` * cos(30deg)
   for (index_t e_in : hull) {
@@ -157,6 +217,12 @@ void add_rim(const Mesh2& mesh, const std::vector<float>& values, int C, const R
         next_far = add_vertex({pv.x + far * dir.x, pv.y + far * dir.y}, v);
       }
       soup.tris.insert(soup.tris.end(), {v, previous, next_far});
+      if (soup.gradients)
+        for (int c = 0; c < C; ++c) {
+          std::array<double, 10> b;
+          b.fill(values[static_cast<std::size_t>(v) * C + c]);
+          soup.rim_patches.push_back(b);
+        }
       previous = next_far;
     }
   }
@@ -210,7 +276,9 @@ Image render_collinear(const Mesh2& mesh, const std::vector<float>& values, int 
 }  // namespace
 
 Image render_mesh(const Mesh2& mesh, const std::vector<float>& values, int C, const RenderGrid& grid,
-                  RenderStats* stats, bool fill_outside, float outside_value) {
+                  RenderStats* stats, bool fill_outside, float outside_value, const std::vector<float>* gradients) {
+  if (gradients && (gradients->size() != values.size() * 2 || C > 16))
+    throw Error("render_mesh: cubic mode needs #V x C x 2 gradients and at most 16 channels");
   RenderStats local;
   if (mesh.triangle_count() == 0) {
     if (stats) *stats = local;
@@ -221,6 +289,9 @@ Image render_mesh(const Mesh2& mesh, const std::vector<float>& values, int C, co
   std::vector<Point2> input_pos(mesh.points);
   soup.values = values;
   soup.tris = mesh.tri;
+  soup.mesh_triangles = mesh.triangle_count();
+  soup.input_points = &mesh.points;
+  soup.gradients = gradients;
   if (fill_outside) add_rim(mesh, values, C, grid, input_pos, soup);
   local.triangles = mesh.triangle_count();
   local.rim_triangles = static_cast<long long>(soup.tris.size() / 3) - local.triangles;

@@ -42,14 +42,23 @@ struct RenderStats {
   long long overcovered = 0;     // pixels written more than once (always 0; checked)
 };
 
+// Cubic mode (gradients given): each triangle carries the cubic Bézier
+// patch of cubic_surface.hpp built from its vertices' values and gradients;
+// the rim slabs carry the hull edge's cubic, constant along the normal, so
+// the surface stays continuous across the hull. Samples are still
+// reproduced exactly (the patch equals the vertex value at a vertex).
+//
 // Inputs:
 //   mesh     valid Mesh2 (points in input coordinates)
 //   values   #V by C vertex values, row-major
 //   C        channels
 //   grid     output size and sampling
 //   fill_outside  render the rim outside the hull (false: those pixels keep `outside_value`)
+//   gradients     nullptr: piecewise linear; else #V by C by 2 vertex gradients
+//                 (d/dx, d/dy in input units) for the cubic mode; C <= 16
 // Output: width x height x C image.
 Image render_mesh(const Mesh2& mesh, const std::vector<float>& values, int C, const RenderGrid& grid,
-                  RenderStats* stats = nullptr, bool fill_outside = true, float outside_value = 0.0f);
+                  RenderStats* stats = nullptr, bool fill_outside = true, float outside_value = 0.0f,
+                  const std::vector<float>* gradients = nullptr);
 
 }  // namespace ddt

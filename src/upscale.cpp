@@ -1,6 +1,7 @@
 #include "upscale.hpp"
 
 #include "costs.hpp"
+#include "cubic_surface.hpp"
 #include "error.hpp"
 #include "image_io.hpp"
 #include "optimizer.hpp"
@@ -52,6 +53,8 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
   if (src.empty() || src.width <= 0 || src.height <= 0) throw Error("the input image is empty");
   if (out_width < 1 || out_height < 1) throw Error("the output size must be at least 1x1");
   const CostFunction& cost = find_cost(options.cost);
+  check_render_name(options.render);
+  if (options.render == "cubic") slope_limiter_by_name(options.slopes);
   check_optimizer_name(options.optimizer);
   if (options.optimizer == "anneal") check_anneal_options(options.anneal);
   UpscaleStats local;
@@ -121,7 +124,10 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
   grid.scale_x = static_cast<double>(out_width) / src.width;
   grid.scale_y = static_cast<double>(out_height) / src.height;
   RenderStats rs;
-  Image out = render_mesh(mesh, src.pixels, src.channels, grid, &rs);
+  std::vector<float> gradients;
+  if (options.render == "cubic") gradients = grid_gradients(src, slope_limiter_by_name(options.slopes));
+  Image out = render_mesh(mesh, src.pixels, src.channels, grid, &rs, true, 0.0f,
+                          options.render == "cubic" ? &gradients : nullptr);
   local.seconds_render = seconds_since(t0);
   log("render: " + std::to_string(out_width) + "x" + std::to_string(out_height) + ", " +
       std::to_string(rs.triangles) + " + " + std::to_string(rs.rim_triangles) + " rim triangles, " +

@@ -19,6 +19,7 @@
 
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace ddt {
 
@@ -31,8 +32,17 @@ struct UpscaleOptions {
   int max_iterations = 10000;       // safety bound on Lawson sweeps
   std::string optimizer = "lawson"; // "lawson" or "anneal" (simulated annealing, then Lawson; annealing.hpp)
   AnnealOptions anneal;             // the annealing schedule and seed, when optimizer == "anneal"
+  // Surface drawn on the mesh: "cubic" (default; cubic Bézier patches from
+  // slope-limited vertex gradients, cubic_surface.hpp) or "linear" (the
+  // paper's piecewise-linear surface).
+  std::string render = "cubic";
+  std::string slopes = "mc4";       // slope limiter of the cubic mode: mc4, mc, central, minmod
   std::function<void(const std::string&)> log;  // verbose lines; may be empty
 };
+
+// The render modes, and a check that throws ddt::Error listing them.
+std::vector<std::string> render_names();
+void check_render_name(const std::string& name);
 
 struct UpscaleStats {
   int iterations = 0;

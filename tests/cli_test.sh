@@ -45,6 +45,9 @@ oiiotool --info -v "$work/grey16_x3.png" | grep -q "uint16" && ok || bad "16-bit
 run_ok "verbose" "$work/in.png" "$work/v.tif" --scale 2 --verbose --cost sederberg-edge --cost-channel luma
 grep -q "flips" "$work/err.txt" && grep -q "render" "$work/err.txt" && ok || bad "--verbose reports no stages"
 run_ok "no optimize" "$work/in.png" "$work/n.png" --scale 2 --no-optimize
+run_ok "linear render" "$work/in.png" "$work/lin.png" --scale 2 --render linear
+run_ok "cubic render, mc slopes" "$work/in.png" "$work/cub.png" --scale 2 --render cubic --slopes mc
+run_fail "unknown render" "$work/in.png" "$work/o.png" --scale 2 --render spline
 
 # Comparison, mesh view, scenes.
 run_ok "compare" "$work/in.png" "$work/side.exr" --scale 3 --compare bicubic
@@ -75,7 +78,7 @@ for f in one row col flat; do run_ok "degenerate $f" "$work/$f.png" "$work/${f}_
 
 # --help documents every option.
 run_ok "help" --help
-for opt in --scale --width --height --cost --cost-channel --no-optimize --tolerance --max-pixels --compare --mesh --mesh-roi --list-costs --verbose --quiet; do
+for opt in --scale --width --height --cost --cost-channel --no-optimize --tolerance --max-pixels --render --slopes --compare --mesh --mesh-roi --list-costs --verbose --quiet; do
   grep -q -- "$opt" "$work/out.txt" && ok || bad "--help does not mention $opt"
 done
 

@@ -88,7 +88,8 @@ TEST_CASE("classic costs: both forms on a hand-built quad") {
   const Mesh2 m = test::mesh_from_triangles(points, {{0, 1, 2}, {0, 1, 3}});
   REQUIRE(check_mesh(m).empty());
   const std::vector<float> values = {0, 0, 1, 6};
-  const FacetPair f = HandFacet().pair();
+  const HandFacet hand;  // owns the coordinates f points at
+  const FacetPair f = hand.pair();
   struct Case {
     const char* name;
     double edge_cost;
@@ -99,7 +100,8 @@ TEST_CASE("classic costs: both forms on a hand-built quad") {
                         {"dp", std::sqrt(33.6)},
                         {"sederberg", 6.0}};  // |g1||g2| - g1.g2 = 3 + 3
   for (const Case& c : cases) {
-    CAPTURE(c.name);
+    const std::string name = c.name;
+    CAPTURE(name);
     // Edge sum: the one interior edge. Weighted content: c * (1/2 + 1) / 3.
     CHECK(total_cost(m, values, 1, find_cost(std::string(c.name) + "-edge")) == doctest::Approx(c.edge_cost));
     CHECK(total_cost(m, values, 1, find_cost(c.name)) == doctest::Approx(c.edge_cost * 1.5 / 3));

@@ -137,7 +137,7 @@ TEST_CASE("flip 4-4: octahedron, both coplanar diagonals offered, result valid")
   }
   // Lift one ring vertex out of the plane: that diagonal is no longer a 4-4.
   std::vector<Point3> q = p;
-  q[2].z = 0.25;
+  q[2].y = 0.25;
   const Mesh3 m1 = test::mesh_from_tets(q, {{0, 1, 2, 3}, {0, 1, 3, 4}, {0, 1, 4, 5}, {0, 1, 5, 2}});
   REQUIRE(check_mesh3(m1) == "");
   CHECK(plan_edge_flips(m1, 0, 0, 1, plans) == 1);

@@ -1,7 +1,8 @@
 // Golden-image regression: every reference input in images/regression/inputs,
-// upscaled x3 with every DDT cost, must match its golden output in
-// images/regression/golden. Goldens change only through
-// scripts/regenerate_goldens.sh, on purpose.
+// upscaled x3 with every DDT cost (default cubic render) and with the
+// paper's costs under the linear render, must match its golden output in
+// images/regression/golden (named <input>__<cost>__<render>__x3.exr).
+// Goldens change only through scripts/regenerate_goldens.sh, on purpose.
 
 #include "costs.hpp"
 #include "image_io.hpp"
@@ -32,8 +33,11 @@ TEST_CASE("regression: every input and cost matches its golden output") {
   int compared = 0;
   for (const fs::path& input : inputs) {
     const ImageFile file = read_image(input.string());
-    for (const CostFunction& cost : cost_functions()) {
-      const std::string name = input.stem().string() + "__" + cost.name + "__x3";
+    std::vector<std::pair<std::string, std::string>> configs;  // (cost, render)
+    for (const CostFunction& cost : cost_functions()) configs.emplace_back(cost.name, "cubic");
+    for (const char* cost : {"sederberg", "variance"}) configs.emplace_back(cost, "linear");
+    for (const auto& [cost, render] : configs) {
+      const std::string name = input.stem().string() + "__" + cost + "__" + render + "__x3";
       CAPTURE(name);
       const fs::path golden_path = regression_dir / "golden" / (name + ".exr");
       // A new cost needs goldens: run scripts/regenerate_goldens.sh and commit them.
@@ -41,7 +45,8 @@ TEST_CASE("regression: every input and cost matches its golden output") {
                                                                  << " (scripts/regenerate_goldens.sh makes it)");
       const ImageFile golden = read_image(golden_path.string());
       UpscaleOptions options;
-      options.cost = cost.name;
+      options.cost = cost;
+      options.render = render;
       options.alpha_channel = file.alpha_channel;
       const Image out = upscale(file.image, 3 * file.image.width, 3 * file.image.height, options);
       REQUIRE(out.width == golden.image.width);

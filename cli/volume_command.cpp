@@ -1,0 +1,344 @@
+// Volumes on the command line:
+//   ddtscale in.nrrd out.nrrd --scale 4 [--cost variance] [--compare trilinear] [--picture views.png]
+//   ddtscale volume-eval [--size 32 --scale 4 --pictures DIR --table FILE]
+//   ddtscale volume-field NAME out.nrrd [--size 32]
+
+#include "commands.hpp"
+
+#include "costs.hpp"
+#include "error.hpp"
+#include "image_io.hpp"
+#include "volume_experiments.hpp"
+#include "volume_fields.hpp"
+#include "volume_io.hpp"
+#include "volume_pictures.hpp"
+#include "volume_upscale.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <sys/resource.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+double peak_memory_mb() {
+  struct rusage ru {};
+  getrusage(RUSAGE_SELF, &ru);
+  return ru.ru_maxrss / 1024.0;  // Linux reports kilobytes
+}
+
+// "N" or "XxYxZ" -> three sizes >= 1; throws ddt::Error.
+void parse_size(const std::string& text, int size[3]) {
+  char extra = 0;
+  const int n = std::sscanf(text.c_str(), "%dx%dx%d%c", &size[0], &size[1], &size[2], &extra);
+  if (n == 1) size[1] = size[2] = size[0];
+  if ((n != 1 && n != 3) || size[0] < 1 || size[1] < 1 || size[2] < 1 || size[0] > 65536 || size[1] > 65536 ||
+      size[2] > 65536)
+    throw ddt::Error("--size wants N or XxYxZ between 1 and 65536, got '" + text + "'");
+}
+
+// out.nrrd + "trilinear" -> out.trilinear.nrrd (same directory and extension).
+std::string sibling_path(const std::string& output, const std::string& tag) {
+  const fs::path p(output);
+  return (p.parent_path() / (p.stem().string() + "." + tag + p.extension().string())).string();
+}
+
+std::string size_text(const ddt::Volume& v) {
+  return std::to_string(v.nx) + "x" + std::to_string(v.ny) + "x" + std::to_string(v.nz);
+}
+
+int fail(const char* who, const std::exception& e) {
+  std::cerr << who << e.what() << "\n";
+  return 1;
+}
+
+int run_volume_upscale(int argc, char** argv) {
+  std::string input, output, size_spec, method = "ddt", cost = "variance", picture, type = "same",
+                                        encoding = "same";
+  double scale = 0, tolerance = 1e-9;
+  std::vector<std::string> compare;
+  long long max_voxels = 1LL << 29;
+  bool verbose = false, quiet = false;
+  CLI::App app{"ddtscale (volumes): enlarge a scalar NRRD volume by data-dependent tetrahedrization.\n"
+               "The voxels become a 3D scalar field, tetrahedrized (Delaunay, then bistellar 2-3, 3-2, 4-4 and\n"
+               "hull 2-2 flips that lower the weighted content of the paper's cost) so that long thin\n"
+               "tetrahedra follow surfaces; the piecewise-linear field is scan-converted at the new size.",
+               "ddtscale"};
+  app.add_option("input", input, "input volume (.nrrd or .nhdr; raw, gzip, ...; 8/16/32-bit integer or float)")
+      ->required();
+  app.add_option("output", output, "output volume (.nrrd or .nhdr); keeps the input's sample type and encoding")
+      ->required();
+  app.add_option("-s,--scale", scale, "magnification, any real > 0 (e.g. 4 or 2.5), the same on every axis");
+  app.add_option("--size", size_spec, "output size instead of --scale: N (a cube) or XxYxZ voxels");
+  app.add_option("--method", method, "ddt (default), delaunay (no flips), trilinear or tricubic")
+      ->check(CLI::IsMember(ddt::volume_upscale_methods()))
+      ->capture_default_str();
+  app.add_option("--cost", cost, "flip cost: " + ddt::cost_names_joined())->capture_default_str();
+  app.add_option("--compare", compare,
+                 "also write the volume enlarged by this method beside the output (out.METHOD.nrrd): "
+                 "trilinear, tricubic (comma-separated for both)")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"trilinear", "tricubic", "delaunay"}));
+  app.add_option("--picture", picture,
+                 "write a PNG of the middle slices and a maximum-intensity projection: one column per "
+                 "--compare method, then DDT")
+      ;
+  app.add_option("--type", type, "output sample type: same, uint8, int8, uint16, int16, uint32, int32, float32, float64")
+      ->capture_default_str();
+  app.add_option("--encoding", encoding, "output encoding: same, raw, gzip, bzip2, ascii, hex")->capture_default_str();
+  app.add_option("--tolerance", tolerance, "a flip must lower the local cost by more than this fraction")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  app.add_option("--max-voxels", max_voxels, "refuse outputs with more voxels than this")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_flag("-v,--verbose", verbose,
+               "report stages, flips of each kind per iteration, cost, times and peak memory");
+  app.add_flag("-q,--quiet", quiet, "print nothing but errors");
+  app.footer(
+      "\nCosts (the paper's weighted content, sum over tetrahedra of volume * weight):\n"
+      "  variance   weight = variance of the four vertex values (default; the paper's 3D experiments)\n"
+      "  sederberg  weight = mean over the four faces of |g1||g2| - g1.g2 (gradients on the two\n"
+      "             tetrahedra sharing the face)\n"
+      "Output voxel (X, Y, Z) samples the input at ((X + 0.5) / sx, ...); outside the voxel centres'\n"
+      "box it takes the value of the nearest point of the box. Spacing, space directions and origin\n"
+      "are scaled so every output sample keeps its world position.\n"
+      "Other volume commands: ddtscale volume-eval --help, ddtscale volume-field --help.\n"
+      "Example: ddtscale head.nrrd head_x4.nrrd --scale 4 --compare trilinear --picture head.png -v");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app.help();
+    return 0;
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "ddtscale: " << e.what() << " (see ddtscale in.nrrd out.nrrd --help)\n";
+    return 2;
+  }
+
+  try {
+    ddt::find_cost(cost);
+    const bool same_type = type == "same", same_encoding = encoding == "same";
+    const ddt::VolumeSampleType forced_type = same_type ? ddt::VolumeSampleType::float32 : ddt::parse_sample_type(type);
+    const ddt::VolumeEncoding forced_encoding = same_encoding ? ddt::VolumeEncoding::raw : ddt::parse_encoding(encoding);
+    if (!ddt::is_volume_path(input))
+      throw ddt::Error("the input '" + input + "' is not a volume: give a .nrrd or .nhdr file");
+    if (!ddt::is_volume_path(output))
+      throw ddt::Error("cannot write '" + output + "': a volume is written as .nrrd or .nhdr (pictures: --picture)");
+    ddt::check_volume_output_path(output, input);
+    for (const auto& m : compare) ddt::check_volume_output_path(sibling_path(output, m), input);
+    if (!picture.empty()) ddt::check_output_path(picture, input);
+    if (scale != 0 && !size_spec.empty()) throw ddt::Error("give either --scale or --size, not both");
+    if (scale == 0 && size_spec.empty()) throw ddt::Error("give the magnification: --scale S, or --size N or XxYxZ");
+    if (scale != 0 && (!(scale > 0) || !std::isfinite(scale))) throw ddt::Error("--scale must be a positive number");
+
+    auto log = [&](const std::string& line) {
+      if (verbose) std::cerr << line << "\n";
+    };
+    auto t0 = std::chrono::steady_clock::now();
+    const ddt::VolumeFile file = ddt::read_volume(input);
+    const ddt::Volume& src = file.volume;
+    log("read: " + input + ", " + size_text(src) + ", " + ddt::sample_type_name(file.type) + ", " +
+        ddt::encoding_name(file.encoding) + ", " + std::to_string(seconds_since(t0)) + " s");
+    int out[3] = {0, 0, 0};
+    if (scale != 0) {
+      const int in[3] = {src.nx, src.ny, src.nz};
+      for (int a = 0; a < 3; ++a) {
+        const double n = std::round(in[a] * scale);
+        if (n > 65536) throw ddt::Error("--scale gives an output larger than --max-voxels");
+        out[a] = static_cast<int>(std::max(1.0, n));
+      }
+    } else {
+      parse_size(size_spec, out);
+    }
+    const long long voxels = static_cast<long long>(out[0]) * out[1] * out[2];
+    if (voxels > max_voxels)
+      throw ddt::Error("output " + std::to_string(out[0]) + "x" + std::to_string(out[1]) + "x" +
+                       std::to_string(out[2]) + " exceeds --max-voxels " + std::to_string(max_voxels));
+
+    const ddt::VolumeSampleType out_type = same_type ? file.type : forced_type;
+    const ddt::VolumeEncoding out_encoding = same_encoding ? file.encoding : forced_encoding;
+    ddt::VolumeUpscaleOptions options;
+    options.method = method;
+    options.cost = cost;
+    options.relative_tolerance = tolerance;
+    if (verbose) options.log = log;
+    ddt::VolumeUpscaleStats stats;
+    const ddt::Volume result = ddt::upscale_volume(src, out[0], out[1], out[2], options, &stats);
+    char comment[200];
+    std::snprintf(comment, sizeof comment, "ddtscale: %s enlarged to %dx%dx%d by %s%s%s", size_text(src).c_str(),
+                  out[0], out[1], out[2], method.c_str(), method == "ddt" ? ", cost " : "",
+                  method == "ddt" ? cost.c_str() : "");
+    t0 = std::chrono::steady_clock::now();
+    ddt::write_volume(output, result, out_type, out_encoding, file.header.get(), comment);
+    log("write: " + output + ", " + ddt::sample_type_name(out_type) + ", " + ddt::encoding_name(out_encoding) + ", " +
+        std::to_string(seconds_since(t0)) + " s");
+
+    std::vector<ddt::Volume> baselines;
+    for (const auto& m : compare) {
+      ddt::VolumeUpscaleOptions o = options;
+      o.method = m;
+      baselines.push_back(ddt::upscale_volume(src, out[0], out[1], out[2], o));
+      const std::string path = sibling_path(output, m);
+      ddt::write_volume(path, baselines.back(), out_type, out_encoding, file.header.get(),
+                        "ddtscale: " + size_text(src) + " enlarged by " + m);
+      log("compare: " + path);
+    }
+    if (!picture.empty()) {
+      std::vector<const ddt::Volume*> columns;
+      for (const auto& b : baselines) columns.push_back(&b);
+      columns.push_back(&result);
+      double lo = 0, hi = 1;
+      ddt::value_range(src, lo, hi);
+      const ddt::Image views = ddt::compare_views(
+          columns, {ddt::VolumeView::slice_xy, ddt::VolumeView::slice_xz, ddt::VolumeView::slice_yz,
+                    ddt::VolumeView::mip_z},
+          lo, hi);
+      ddt::write_image(picture, views, ddt::SampleFormat::uint8);
+      log("picture: " + picture + " (columns: " + (compare.empty() ? "" : "compare methods, then ") +
+          method + "; rows: x-y, x-z, y-z middle slices, MIP along z)");
+    }
+    char line[120];
+    std::snprintf(line, sizeof line, "peak memory: %.0f MB", peak_memory_mb());
+    log(line);
+    if (!quiet && !verbose)
+      std::cerr << output << ": " << out[0] << "x" << out[1] << "x" << out[2] << " " << ddt::sample_type_name(out_type)
+                << "\n";
+    return 0;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "ddtscale: out of memory (try a smaller output or --max-voxels)\n";
+    return 1;
+  } catch (const std::exception& e) {
+    return fail("ddtscale: ", e);
+  }
+}
+
+int run_volume_eval(int argc, char** argv) {
+  ddt::VolumeExperimentOptions options;
+  std::string pictures, table;
+  std::vector<std::string> fields = options.fields, methods = options.methods,
+                           picture_methods = options.picture_methods;
+  bool quiet = false;
+  CLI::App app{"The paper's 3D experiments: analytic volumes (sphere, hydrogen orbital) sampled at SIZE^3,\n"
+               "enlarged by SCALE with each method and scored against the field sampled at the high\n"
+               "resolution (RMSE, PSNR with peak 1). Prints a Markdown table.",
+               "ddtscale volume-eval"};
+  app.add_option("--size", options.size, "input size (a cube)")->capture_default_str()->check(CLI::Range(2, 512));
+  app.add_option("--scale", options.scale, "integer magnification")->capture_default_str()->check(CLI::Range(1, 16));
+  app.add_option("--fields", fields, "fields (comma-separated): sphere, hydrogen")->delimiter(',');
+  app.add_option("--methods", methods,
+                 "methods (comma-separated): trilinear, tricubic, delaunay, ddt:COST (ddt = ddt:variance)")
+      ->delimiter(',');
+  app.add_option("--pictures", pictures, "write <field>-x<scale>.png views into this directory");
+  app.add_option("--picture-methods", picture_methods, "the columns after the reference in the pictures")
+      ->delimiter(',');
+  app.add_option("--table", table, "also write the Markdown table to this file");
+  app.add_option("--input-ss", options.input_ss, "point samples per axis per input voxel")->capture_default_str();
+  app.add_option("--reference-ss", options.reference_ss, "point samples per axis per reference voxel")
+      ->capture_default_str();
+  app.add_flag("-q,--quiet", quiet, "print only the table");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app.help();
+    return 0;
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "ddtscale volume-eval: " << e.what() << " (see ddtscale volume-eval --help)\n";
+    return 2;
+  }
+  try {
+    options.fields = fields;
+    options.methods = methods;
+    options.picture_methods = picture_methods;
+    options.picture_dir = pictures;
+    if (!quiet) options.log = [](const std::string& line) { std::cerr << line << "\n"; };
+    const auto rows = ddt::run_volume_experiments(options);
+    const std::string text = ddt::volume_experiment_table(rows);
+    std::cout << text;
+    if (!table.empty()) {
+      std::ofstream out(table);
+      out << text;
+      if (!out) throw ddt::Error("cannot write '" + table + "'");
+    }
+    return 0;
+  } catch (const std::exception& e) {
+    return fail("ddtscale volume-eval: ", e);
+  }
+}
+
+int run_volume_field(int argc, char** argv) {
+  std::string name, output, size_spec = "32", type = "float32", encoding = "raw";
+  int ss = 8;
+  bool list = false;
+  CLI::App app{"Write an analytic test volume (box-filtered over each voxel) as NRRD. Values 0..1;\n"
+               "integer types scale them to the type's maximum (uint8: 0..255).",
+               "ddtscale volume-field"};
+  app.add_option("name", name, "field name (see --list)");
+  app.add_option("output", output, "output volume (.nrrd or .nhdr)");
+  app.add_option("--size", size_spec, "N (a cube) or XxYxZ voxels")->capture_default_str();
+  app.add_option("--supersample", ss, "point samples per axis per voxel")->capture_default_str()->check(CLI::Range(1, 64));
+  app.add_option("--type", type, "sample type: uint8, uint16, float32, ...")->capture_default_str();
+  app.add_option("--encoding", encoding, "raw, gzip, ...")->capture_default_str();
+  app.add_flag("--list", list, "list the fields and exit");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app.help();
+    return 0;
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "ddtscale volume-field: " << e.what() << " (see ddtscale volume-field --help)\n";
+    return 2;
+  }
+  try {
+    if (list) {
+      for (const auto& f : ddt::volume_fields()) std::cout << f.name << "\t" << f.description << "\n";
+      return 0;
+    }
+    if (name.empty() || output.empty()) throw ddt::Error("give a field name and an output file (see --list)");
+    int size[3];
+    parse_size(size_spec, size);
+    const ddt::VolumeField& field = ddt::find_volume_field(name);
+    const ddt::VolumeSampleType t = ddt::parse_sample_type(type);
+    const ddt::VolumeEncoding e = ddt::parse_encoding(encoding);
+    ddt::check_volume_output_path(output, "");
+    ddt::Volume v = ddt::sample_field(field, size[0], size[1], size[2], ss);
+    const double peak = t == ddt::VolumeSampleType::uint8    ? 255.0
+                        : t == ddt::VolumeSampleType::int8   ? 127.0
+                        : t == ddt::VolumeSampleType::uint16 ? 65535.0
+                        : t == ddt::VolumeSampleType::int16  ? 32767.0
+                                                             : 1.0;
+    for (float& x : v.voxels) x = static_cast<float>(x * peak);
+    ddt::write_volume(output, v, t, e, nullptr, "ddtscale volume-field " + name + ": " + field.description);
+    return 0;
+  } catch (const std::exception& e) {
+    return fail("ddtscale volume-field: ", e);
+  }
+}
+
+}  // namespace
+
+bool is_volume_command(int argc, char** argv) {
+  if (argc >= 2 && (std::strcmp(argv[1], "volume-eval") == 0 || std::strcmp(argv[1], "volume-field") == 0))
+    return true;
+  for (int i = 1; i < argc; ++i)
+    if (argv[i][0] != '-' && ddt::is_volume_path(argv[i])) return true;
+  return false;
+}
+
+int run_volume_command(int argc, char** argv) {
+  if (argc >= 2 && std::strcmp(argv[1], "volume-eval") == 0) return run_volume_eval(argc - 1, argv + 1);
+  if (argc >= 2 && std::strcmp(argv[1], "volume-field") == 0) return run_volume_field(argc - 1, argv + 1);
+  return run_volume_upscale(argc, argv);
+}

@@ -1,0 +1,55 @@
+#pragma once
+// The paper's 3D experiments (Sect. 5, Figs. 9 and 10), reproduced and
+// scored: each analytic field (volume_fields.hpp) is sampled at size^3,
+// enlarged by `scale` with every method, and compared with the same field
+// sampled at the high resolution (size * scale)^3: RMSE and PSNR (peak 1,
+// the fields' range).
+//
+// Sampling: the input is box-filtered with input_ss^3 point samples per
+// voxel, the reference with reference_ss^3 per (smaller) voxel; both are
+// the footprint of a scanner's voxel at their resolution.
+//
+// Methods are volume_upscale_methods() names; "ddt:COST" picks the cost
+// (plain "ddt" is "ddt:variance", the paper's choice for its figures).
+//
+// Pictures (when picture_dir is set): <dir>/<field>-x<scale>.png, one
+// column per picture_methods entry after the reference, rows: middle x-y
+// slice, middle x-z slice, maximum-intensity projection along z; grey
+// levels 0..1.
+//
+// Errors: throws ddt::Error (unknown field, method or cost; unwritable
+// directory).
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace ddt {
+
+struct VolumeExperimentOptions {
+  int size = 32;
+  int scale = 4;
+  int input_ss = 8;
+  int reference_ss = 4;
+  std::vector<std::string> fields = {"sphere", "hydrogen"};
+  std::vector<std::string> methods = {"trilinear", "tricubic", "delaunay", "ddt:variance", "ddt:sederberg"};
+  std::vector<std::string> picture_methods = {"trilinear", "ddt:variance"};
+  std::string picture_dir;  // empty: no pictures
+  std::function<void(const std::string&)> log;
+};
+
+struct VolumeExperimentRow {
+  std::string field;
+  std::string method;
+  double rmse = 0;
+  double psnr = 0;
+  double seconds = 0;
+  long long flips = 0;
+};
+
+std::vector<VolumeExperimentRow> run_volume_experiments(const VolumeExperimentOptions& options);
+
+// The rows as a Markdown table (field, method, RMSE, PSNR, flips, seconds).
+std::string volume_experiment_table(const std::vector<VolumeExperimentRow>& rows);
+
+}  // namespace ddt

@@ -1,0 +1,96 @@
+#!/usr/bin/env bash
+# End-to-end checks of the volume side of the ddtscale command: the main
+# job (ddtscale in.nrrd out.nrrd --scale 4), its options, volume-field and
+# volume-eval, and bad input (one line on stderr, non-zero exit, nothing
+# destroyed). Usage: cli_volume_test.sh path/to/ddtscale
+set -u
+bin="$1"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+passed=0
+failed=0
+ok() { passed=$((passed + 1)); }
+bad() { failed=$((failed + 1)); echo "FAIL: $*"; }
+
+run_ok() {
+  local name="$1"; shift
+  if "$bin" "$@" >"$work/out.txt" 2>"$work/err.txt"; then ok; else bad "$name: exit $? ($(cat "$work/err.txt"))"; fi
+}
+run_fail() {
+  local name="$1"; shift
+  "$bin" "$@" >"$work/out.txt" 2>"$work/err.txt"
+  local code=$?
+  local lines
+  lines=$(wc -l <"$work/err.txt")
+  if [ "$code" -ne 1 ] && [ "$code" -ne 2 ]; then bad "$name: exit code $code"; return; fi
+  if [ "$lines" -ne 1 ]; then bad "$name: $lines lines on stderr: $(cat "$work/err.txt")"; return; fi
+  ok
+}
+# header FIELD FILE: the value of a NRRD header field (the header is text up to the first blank line).
+header() { sed -n '/^$/q;p' "$2" | sed -n "s/^$1: //p"; }
+
+run_ok "volume-field" volume-field sphere "$work/s.nrrd" --size 10 --type uint8 --encoding gzip --supersample 4
+run_ok "volume-field float" volume-field hydrogen "$work/h.nhdr" --size 6x7x8 --supersample 2
+[ -f "$work/h.raw" ] && ok || bad "detached data file h.raw missing"
+
+# The main job.
+run_ok "main job" "$work/s.nrrd" "$work/out.nrrd" --scale 4
+[ "$(header sizes "$work/out.nrrd")" = "40 40 40" ] && ok || bad "main job: sizes $(header sizes "$work/out.nrrd")"
+[ "$(header type "$work/out.nrrd")" = "unsigned char" ] && ok || bad "8-bit input did not stay 8-bit"
+[ "$(header encoding "$work/out.nrrd")" = "gzip" ] && ok || bad "gzip input did not stay gzip"
+run_ok "float, detached, non-integer scale" "$work/h.nhdr" "$work/h2.nhdr" --scale 2.5 --cost sederberg
+[ "$(header sizes "$work/h2.nhdr")" = "15 18 20" ] && ok || bad "scale 2.5: sizes $(header sizes "$work/h2.nhdr")"
+[ "$(header type "$work/h2.nhdr")" = "float" ] && ok || bad "float input did not stay float"
+run_ok "size, type, encoding" "$work/s.nrrd" "$work/sz.nrrd" --size 12x14x16 --type float32 --encoding raw
+[ "$(header sizes "$work/sz.nrrd")" = "12 14 16" ] && ok || bad "--size: $(header sizes "$work/sz.nrrd")"
+[ "$(header type "$work/sz.nrrd")" = "float" ] && [ "$(header encoding "$work/sz.nrrd")" = "raw" ] && ok ||
+  bad "--type/--encoding not applied"
+run_ok "verbose, compare, picture" "$work/s.nrrd" "$work/v.nrrd" --scale 3 --verbose --compare trilinear,tricubic \
+  --picture "$work/v.png"
+grep -q "flips 2-3: [0-9]*, 3-2: [0-9]*, 4-4: [0-9]*, 2-2: [0-9]*" "$work/err.txt" && grep -q "cost variance" "$work/err.txt" &&
+  grep -q "peak memory" "$work/err.txt" && ok || bad "--verbose does not report flips of each kind, cost and memory"
+[ -f "$work/v.trilinear.nrrd" ] && [ -f "$work/v.tricubic.nrrd" ] && ok || bad "--compare did not write the baselines"
+oiiotool --info "$work/v.png" >/dev/null 2>&1 && ok || bad "--picture is not a readable image"
+run_ok "methods" "$work/s.nrrd" "$work/m.nrrd" --scale 2 --method trilinear
+run_ok "single slice" volume-field sphere "$work/flat.nrrd" --size 8x8x1
+run_ok "single slice enlarged" "$work/flat.nrrd" "$work/flat4.nrrd" --scale 4
+[ "$(header sizes "$work/flat4.nrrd")" = "32 32 4" ] && ok || bad "single slice: $(header sizes "$work/flat4.nrrd")"
+run_ok "volume-eval" volume-eval --size 5 --scale 2 --methods trilinear,ddt --input-ss 2 --reference-ss 1 --quiet
+grep -q "| sphere | ddt |" "$work/out.txt" && ok || bad "volume-eval printed no table"
+
+run_ok "help" "$work/s.nrrd" --help
+for opt in --scale --size --method --cost --compare --picture --type --encoding --tolerance --max-voxels --verbose --quiet; do
+  grep -q -- "$opt" "$work/out.txt" && ok || bad "--help does not mention $opt"
+done
+
+# Bad input.
+printf 'not a volume' >"$work/corrupt.nrrd"
+printf 'NRRD0004\ntype: uchar\ndimension: 4\nsizes: 3 2 2 2\nencoding: ascii\n\n%s\n' "$(seq -s ' ' 1 24)" >"$work/rgb.nrrd"
+run_fail "missing input" "$work/nope.nrrd" "$work/o.nrrd" --scale 2
+run_fail "corrupt input" "$work/corrupt.nrrd" "$work/o.nrrd" --scale 2
+run_fail "multi-component input" "$work/rgb.nrrd" "$work/o.nrrd" --scale 2
+run_fail "scale zero" "$work/s.nrrd" "$work/o.nrrd" --scale 0
+run_fail "scale negative" "$work/s.nrrd" "$work/o.nrrd" --scale -3
+run_fail "scale not a number" "$work/s.nrrd" "$work/o.nrrd" --scale abc
+run_fail "no scale" "$work/s.nrrd" "$work/o.nrrd"
+run_fail "bad size" "$work/s.nrrd" "$work/o.nrrd" --size 4x4
+run_fail "too many voxels" "$work/s.nrrd" "$work/o.nrrd" --scale 100 --max-voxels 1000
+run_fail "output is input" "$work/s.nrrd" "$work/s.nrrd" --scale 2
+run_fail "missing directory" "$work/s.nrrd" "$work/nodir/o.nrrd" --scale 2
+run_fail "unknown cost" "$work/s.nrrd" "$work/o.nrrd" --scale 2 --cost nope
+run_fail "unknown type" "$work/s.nrrd" "$work/o.nrrd" --scale 2 --type rgb
+run_fail "unknown compare" "$work/s.nrrd" "$work/o.nrrd" --scale 2 --compare lanczos
+run_fail "image output" "$work/s.nrrd" "$work/o.png" --scale 2
+run_fail "unknown field" volume-field torus "$work/t.nrrd"
+
+# A failing run never destroys an existing output.
+printf 'precious' >"$work/keep.nrrd"
+run_fail "keeps existing output" "$work/corrupt.nrrd" "$work/keep.nrrd" --scale 2
+[ "$(cat "$work/keep.nrrd")" = "precious" ] && ok || bad "existing output was overwritten"
+cp "$work/s.nrrd" "$work/s_copy.nrrd"
+run_fail "input untouched" "$work/s.nrrd" "$work/s.nrrd" --scale 2
+cmp -s "$work/s.nrrd" "$work/s_copy.nrrd" && ok || bad "input was modified"
+ls -a "$work" | grep -q '\.ddtscale-' && bad "temporary directory left behind" || ok
+
+echo "$passed passed, $failed failed"
+[ "$failed" -eq 0 ]
