@@ -79,6 +79,10 @@ int run_eval_command(int argc, char** argv) {
                      ddt::cost_names_joined() + ")")
       ->delimiter(',');
   app.add_flag("--luma-cost", luma_cost, "DDT flips decided on luminance only");
+  std::string slopes = "mc4";
+  app.add_option("--slopes", slopes, "slope limiter of the cubic render: mc4, mc, central, minmod")
+      ->check(CLI::IsMember({"mc4", "mc", "central", "minmod"}))
+      ->capture_default_str();
   std::string optimizer = "lawson";
   std::uint64_t seed = 1;
   app.add_option("--optimizer", optimizer, "DDT optimizer of every ddt method: lawson or anneal")
@@ -104,6 +108,7 @@ int run_eval_command(int argc, char** argv) {
 
     ddt::UpscaleOptions ddt_options;
     ddt_options.luma_cost = luma_cost;
+    ddt_options.slopes = slopes;
     ddt_options.optimizer = optimizer;
     ddt_options.anneal.seed = seed;
     ddt::EvalOptions options;

@@ -3,6 +3,7 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <sstream>
 #include <utility>
@@ -37,17 +38,50 @@ std::array<index_t, 3> face_key(const Mesh3& mesh, index_t f) {
                        mesh.tet[4 * t + face_vertex[i][2]]);
 }
 
+// A generous bound on the rounding error of signed_volume6(p, q, r, s):
+// m the largest coordinate difference from p, c the largest coordinate
+// (differences are exact on voxel grids, rounded elsewhere).
+double rounding_bound(const Mesh3& mesh, index_t p, index_t q, index_t r, index_t s) {
+  const auto& P = mesh.points;
+  double m = 0, c = std::max({std::abs(P[p].x), std::abs(P[p].y), std::abs(P[p].z)});
+  for (index_t v : {q, r, s}) {
+    m = std::max({m, std::abs(P[v].x - P[p].x), std::abs(P[v].y - P[p].y), std::abs(P[v].z - P[p].z)});
+    c = std::max({c, std::abs(P[v].x), std::abs(P[v].y), std::abs(P[v].z)});
+  }
+  return 1e-12 * m * m * (m + c);
+}
+
+// Orientation sign for building a plan: exact, or (fast) from floating
+// point when the determinant clearly exceeds its rounding error, exact
+// otherwise.
+int build_sign(const Mesh3& mesh, index_t p, index_t q, index_t r, index_t s, bool exact) {
+  const auto& P = mesh.points;
+  if (!exact) {
+    const double d = signed_volume6(P[p], P[q], P[r], P[s]);
+    if (std::abs(d) > rounding_bound(mesh, p, q, r, s)) return d > 0 ? 1 : -1;
+  }
+  return orientation(P[p], P[q], P[r], P[s]);
+}
+
+// Coplanarity of four points: exact, or (fast) a tolerant floating-point
+// test that never rejects exactly coplanar points (confirmed exactly later).
+bool build_coplanar(const Mesh3& mesh, index_t p, index_t q, index_t r, index_t s, bool exact) {
+  const auto& P = mesh.points;
+  if (exact) return orientation(P[p], P[q], P[r], P[s]) == 0;
+  return std::abs(signed_volume6(P[p], P[q], P[r], P[s])) <= rounding_bound(mesh, p, q, r, s);
+}
+
 // The 4-4 (closed ring of four) or 2-2 (open ring of two) flip along the
 // diagonal w[k] - w[k+2] of the ring, if a, b, w[k], w[k+2] are coplanar
-// and the new tetrahedra are positive.
-bool plan_diagonal(const Mesh3& mesh, const EdgeRing& ring, int k, FlipPlan& plan) {
-  const auto& P = mesh.points;
+// and (exact mode) the new tetrahedra are positive.
+bool plan_diagonal(const Mesh3& mesh, const EdgeRing& ring, int k, FlipPlan& plan, bool exact) {
   const index_t a = ring.a, b = ring.b;
   index_t w0 = ring.w[k], w1 = ring.w[k + 1], w2 = ring.w[k + 2];
-  if (orientation(P[a], P[b], P[w0], P[w2]) != 0) return false;
-  const int s = orientation(P[w0], P[w2], P[w1], P[a]);
+  if (!build_coplanar(mesh, a, b, w0, w2, exact)) return false;
+  const int s = build_sign(mesh, w0, w2, w1, a, exact);
   if (s == 0) return false;
   if (s < 0) std::swap(w0, w2);  // mirror: the same split, listed positively
+  plan.coplanar = {a, b, w0, w2};
   plan.new_tets[0] = {w0, w2, w1, a};
   plan.new_tets[1] = {w2, w0, w1, b};
   if (ring.closed) {
@@ -60,11 +94,63 @@ bool plan_diagonal(const Mesh3& mesh, const EdgeRing& ring, int k, FlipPlan& pla
     plan.kind = FlipKind::flip22;
     plan.new_count = 2;
   }
-  for (int n = 1; n < plan.new_count; ++n)
-    if (orient(mesh, plan.new_tets[n]) <= 0) return false;
+  if (exact)
+    for (int n = 1; n < plan.new_count; ++n)
+      if (orient(mesh, plan.new_tets[n]) <= 0) return false;
   plan.old_count = ring.size;
   for (int n = 0; n < ring.size; ++n) plan.old_tets[n] = ring.tets[n];
   return true;
+}
+
+bool build_flip23(const Mesh3& mesh, index_t f, FlipPlan& plan, bool exact) {
+  const index_t g = mesh.opp[f];
+  if (g == no_face) return false;
+  const index_t t = tet_of(f), u = tet_of(g);
+  const int i = local_of(f);
+  const index_t a = mesh.tet[4 * t + face_vertex[i][0]], b = mesh.tet[4 * t + face_vertex[i][1]],
+                c = mesh.tet[4 * t + face_vertex[i][2]];
+  const index_t d = mesh.tet[4 * t + i], e = mesh.tet[4 * u + local_of(g)];
+  plan.kind = FlipKind::flip23;
+  plan.old_count = 2;
+  plan.old_tets[0] = t;
+  plan.old_tets[1] = u;
+  plan.new_count = 3;
+  plan.new_tets[0] = {a, b, e, d};
+  plan.new_tets[1] = {b, c, e, d};
+  plan.new_tets[2] = {c, a, e, d};
+  if (exact)
+    for (int n = 0; n < 3; ++n)
+      if (orient(mesh, plan.new_tets[n]) <= 0) return false;
+  return true;
+}
+
+int build_edge_flips(const Mesh3& mesh, index_t t, index_t a, index_t b, FlipPlan plans[2], bool exact) {
+  EdgeRing ring;
+  if (!edge_ring(mesh, t, a, b, ring, 4)) return 0;  // only rings of 2..4 flip
+  int count = 0;
+  if (ring.closed && ring.size == 3) {
+    // 3-2: triangle w0 w1 w2 with a on one side and b on the other.
+    FlipPlan& plan = plans[0];
+    index_t w0 = ring.w[0], w1 = ring.w[1], w2 = ring.w[2];
+    const int s = build_sign(mesh, w0, w1, w2, a, exact);
+    if (s == 0) return 0;
+    if (s < 0) std::swap(w1, w2);
+    plan.kind = FlipKind::flip32;
+    plan.new_count = 2;
+    plan.new_tets[0] = {w0, w1, w2, a};
+    plan.new_tets[1] = {w0, w2, w1, b};
+    if (exact && orient(mesh, plan.new_tets[1]) <= 0) return 0;
+    plan.old_count = 3;
+    for (int n = 0; n < 3; ++n) plan.old_tets[n] = ring.tets[n];
+    return 1;
+  }
+  if (ring.closed && ring.size == 4) {
+    for (int k = 0; k < 2; ++k)
+      if (plan_diagonal(mesh, ring, k, plans[count], exact)) ++count;
+    return count;
+  }
+  if (!ring.closed && ring.size == 2) return plan_diagonal(mesh, ring, 0, plans[0], exact) ? 1 : 0;
+  return 0;
 }
 
 }  // namespace
@@ -159,55 +245,26 @@ bool edge_ring(const Mesh3& mesh, index_t t, index_t a, index_t b, EdgeRing& rin
   return true;
 }
 
-bool plan_flip23(const Mesh3& mesh, index_t f, FlipPlan& plan) {
-  const index_t g = mesh.opp[f];
-  if (g == no_face) return false;
-  const index_t t = tet_of(f), u = tet_of(g);
-  const int i = local_of(f);
-  const index_t a = mesh.tet[4 * t + face_vertex[i][0]], b = mesh.tet[4 * t + face_vertex[i][1]],
-                c = mesh.tet[4 * t + face_vertex[i][2]];
-  const index_t d = mesh.tet[4 * t + i], e = mesh.tet[4 * u + local_of(g)];
-  plan.kind = FlipKind::flip23;
-  plan.old_count = 2;
-  plan.old_tets[0] = t;
-  plan.old_tets[1] = u;
-  plan.new_count = 3;
-  plan.new_tets[0] = {a, b, e, d};
-  plan.new_tets[1] = {b, c, e, d};
-  plan.new_tets[2] = {c, a, e, d};
-  for (int n = 0; n < 3; ++n)
-    if (orient(mesh, plan.new_tets[n]) <= 0) return false;
-  return true;
-}
+bool plan_flip23(const Mesh3& mesh, index_t f, FlipPlan& plan) { return build_flip23(mesh, f, plan, true); }
 
 int plan_edge_flips(const Mesh3& mesh, index_t t, index_t a, index_t b, FlipPlan plans[2]) {
-  EdgeRing ring;
-  if (!edge_ring(mesh, t, a, b, ring, 4)) return 0;  // only rings of 2..4 flip
-  int count = 0;
-  if (ring.closed && ring.size == 3) {
-    // 3-2: triangle w0 w1 w2 with a on one side and b on the other.
-    FlipPlan& plan = plans[0];
-    const auto& P = mesh.points;
-    index_t w0 = ring.w[0], w1 = ring.w[1], w2 = ring.w[2];
-    const int s = orientation(P[w0], P[w1], P[w2], P[a]);
-    if (s == 0) return 0;
-    if (s < 0) std::swap(w1, w2);
-    plan.kind = FlipKind::flip32;
-    plan.new_count = 2;
-    plan.new_tets[0] = {w0, w1, w2, a};
-    plan.new_tets[1] = {w0, w2, w1, b};
-    if (orient(mesh, plan.new_tets[1]) <= 0) return 0;
-    plan.old_count = 3;
-    for (int n = 0; n < 3; ++n) plan.old_tets[n] = ring.tets[n];
-    return 1;
+  return build_edge_flips(mesh, t, a, b, plans, true);
+}
+
+bool propose_flip23(const Mesh3& mesh, index_t f, FlipPlan& plan) { return build_flip23(mesh, f, plan, false); }
+
+int propose_edge_flips(const Mesh3& mesh, index_t t, index_t a, index_t b, FlipPlan plans[2]) {
+  return build_edge_flips(mesh, t, a, b, plans, false);
+}
+
+bool is_valid_flip(const Mesh3& mesh, const FlipPlan& plan) {
+  if (plan.kind == FlipKind::flip44 || plan.kind == FlipKind::flip22) {
+    const auto& c = plan.coplanar;
+    if (orientation(mesh.points[c[0]], mesh.points[c[1]], mesh.points[c[2]], mesh.points[c[3]]) != 0) return false;
   }
-  if (ring.closed && ring.size == 4) {
-    for (int k = 0; k < 2; ++k)
-      if (plan_diagonal(mesh, ring, k, plans[count])) ++count;
-    return count;
-  }
-  if (!ring.closed && ring.size == 2) return plan_diagonal(mesh, ring, 0, plans[0]) ? 1 : 0;
-  return 0;
+  for (int n = 0; n < plan.new_count; ++n)
+    if (orient(mesh, plan.new_tets[n]) <= 0) return false;
+  return true;
 }
 
 void apply_flip(Mesh3& mesh, const FlipPlan& plan, index_t* new_slots) {

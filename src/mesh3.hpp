@@ -146,6 +146,7 @@ struct FlipPlan {
   std::array<index_t, 4> old_tets{};
   int new_count = 0;
   std::array<std::array<index_t, 4>, 4> new_tets{};
+  std::array<index_t, 4> coplanar{};  // 4-4, 2-2: the points that must be coplanar (a, b, w0, w2)
 };
 
 // The 2-3 flip of face f (slot 4t+i). False when f is on the hull or the
@@ -157,6 +158,18 @@ bool plan_flip23(const Mesh3& mesh, index_t f, FlipPlan& plan);
 // 2-2 (open ring of two, coplanar hull faces). Writes the valid ones to
 // plans[0..] and returns how many.
 int plan_edge_flips(const Mesh3& mesh, index_t t, index_t a, index_t b, FlipPlan plans[2]);
+
+// The fast path for optimizers: the same candidates as plan_flip23 and
+// plan_edge_flips, built without exact predicates (vertex order from
+// floating-point signs that clearly exceed their rounding error, else
+// exact; coplanarity by a tolerant test that never rejects exactly
+// coplanar points) and without checking the new tetrahedra. A proposal
+// may be invalid: is_valid_flip decides exactly, with the same rule as
+// plan_*. So an optimizer can price a flip first and pay for exact
+// predicates only when it would take it.
+bool propose_flip23(const Mesh3& mesh, index_t f, FlipPlan& plan);
+int propose_edge_flips(const Mesh3& mesh, index_t t, index_t a, index_t b, FlipPlan plans[2]);
+bool is_valid_flip(const Mesh3& mesh, const FlipPlan& plan);
 
 // Replaces plan.old_tets by plan.new_tets and relinks every face: inside
 // the region among the new tetrahedra, on its boundary to the old outside

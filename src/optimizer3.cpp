@@ -234,22 +234,27 @@ class Problem3 {
     const index_t t = item / 10;
     const int k = item % 10;
     if (!mesh_.is_live(t)) return 0;
+    // Price the proposals first; exact predicates only for a flip we would take.
     FlipPlan plans[2];
     int n = 0;
     if (k < 4) {
-      n = plan_flip23(mesh_, 4 * t + k, plans[0]) ? 1 : 0;
+      n = propose_flip23(mesh_, 4 * t + k, plans[0]) ? 1 : 0;
     } else {
       const index_t a = mesh_.tet[4 * t + edge_vertex[k - 4][0]], b = mesh_.tet[4 * t + edge_vertex[k - 4][1]];
-      n = plan_edge_flips(mesh_, t, a, b, plans);
+      n = propose_edge_flips(mesh_, t, a, b, plans);
     }
-    int best = -1;
-    double best_gain = 0;
+    double gains[2] = {0, 0};
     for (int p = 0; p < n; ++p) {
       const LocalCosts lc = local_costs(ctx_, plans[p]);
-      if (!lc.improves(relative_tolerance)) continue;
-      if (best < 0 || lc.gain() > best_gain) best = p, best_gain = lc.gain();
+      gains[p] = lc.improves(relative_tolerance) ? lc.gain() : 0;  // NaN (degenerate proposal) -> 0
     }
+    // The better improving proposal that is valid.
+    const int order[2] = {n == 2 && gains[1] > gains[0] ? 1 : 0, n == 2 && gains[1] > gains[0] ? 0 : 1};
+    int best = -1;
+    for (int j = 0; j < n && best < 0; ++j)
+      if (gains[order[j]] > 0 && is_valid_flip(mesh_, plans[order[j]])) best = order[j];
     if (best < 0) return 0;
+    const double best_gain = gains[best];
     const FlipPlan& plan = plans[best];
     index_t slots[4];
     apply_flip(mesh_, plan, slots);

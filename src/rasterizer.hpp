@@ -11,12 +11,17 @@
 // (constant), so one code path covers both.
 //
 // Fill rule: every pixel centre is owned by exactly one triangle. Coverage
-// uses CGAL's exact orientation predicate; a centre exactly on an edge or
-// vertex belongs to the triangle that contains the centre moved by an
+// uses exact orientation (plain double arithmetic where it is provably
+// exact: coordinates on a 2^-10 grid, as at integer scales; else a filtered
+// evaluation backed by CGAL's exact predicate); a centre exactly on an edge
+// or vertex belongs to the triangle that contains the centre moved by an
 // infinitesimal (eps, eps^2), the top-left rule made exact.
-// Interpolation uses barycentric weights that are exactly 1 and 0 at the
-// vertices, so samples that coincide with output pixel centres are
-// reproduced bit for bit.
+// Values: the plane through the triangle's vertex values (linear) or its
+// Bézier patch (cubic), evaluated in double; samples that coincide with
+// output pixel centres are then written as stored, bit for bit.
+//
+// Speed: triangles are binned into bands of rows, drawn in parallel (TBB);
+// per pixel one multiply-add per channel (linear). See docs/performance.md.
 //
 // A mesh with no triangles (collinear points) is rendered by linear
 // interpolation along the line, clamped at its ends; a single point gives a
@@ -24,6 +29,7 @@
 
 #include "image.hpp"
 #include "mesh.hpp"
+#include "progress.hpp"
 
 #include <vector>
 
@@ -33,6 +39,11 @@ struct RenderGrid {
   int width = 0, height = 0;        // output size in pixels
   double scale_x = 1, scale_y = 1;  // output pixels per input unit
   double origin_x = 0, origin_y = 0;  // input position of the output's top-left corner
+  // Rows [first_row, first_row + rows) of the grid only (rows < 0: all):
+  // the image returned has that many rows, its row 0 being grid row
+  // first_row, and every pixel the value it has in the whole grid, bit for
+  // bit (tiled rendering, upscale.hpp).
+  int first_row = 0, rows = -1;
 };
 
 struct RenderStats {
@@ -56,9 +67,10 @@ struct RenderStats {
 //   fill_outside  render the rim outside the hull (false: those pixels keep `outside_value`)
 //   gradients     nullptr: piecewise linear; else #V by C by 2 vertex gradients
 //                 (d/dx, d/dy in input units) for the cubic mode; C <= 16
+//   progress      if given, a stage "render" counting bands of rows
 // Output: width x height x C image.
 Image render_mesh(const Mesh2& mesh, const std::vector<float>& values, int C, const RenderGrid& grid,
                   RenderStats* stats = nullptr, bool fill_outside = true, float outside_value = 0.0f,
-                  const std::vector<float>* gradients = nullptr);
+                  const std::vector<float>* gradients = nullptr, Progress* progress = nullptr);
 
 }  // namespace ddt

@@ -192,3 +192,52 @@ TEST_CASE("flips: thousands of random valid flips on a grid keep a valid tetrahe
     CHECK(done[k] > 0);
   }
 }
+
+TEST_CASE("propose_* + is_valid_flip: exactly the flips plan_* offers (grid and scattered points)") {
+  for (const bool grid : {true, false}) {
+    CAPTURE(grid);
+    Mesh3 m = grid ? delaunay_tetrahedralization(grid_points3(6, 5, 5))
+                   : delaunay_tetrahedralization(test::random_points3(150, 4));
+    std::mt19937 rng(2);
+    long long compared = 0;
+    for (int round = 0; round < 4; ++round) {
+      for (index_t t = 0; t < m.slot_count(); ++t) {
+        if (!m.is_live(t)) continue;
+        for (int k = 0; k < 10; ++k) {
+          FlipPlan exact[2], proposed[2];
+          int n_exact = 0, n_proposed = 0;
+          if (k < 4) {
+            n_exact = plan_flip23(m, 4 * t + k, exact[0]) ? 1 : 0;
+            n_proposed = propose_flip23(m, 4 * t + k, proposed[0]) ? 1 : 0;
+          } else {
+            const index_t a = m.tet[4 * t + edge_vertex[k - 4][0]], b = m.tet[4 * t + edge_vertex[k - 4][1]];
+            n_exact = plan_edge_flips(m, t, a, b, exact);
+            n_proposed = propose_edge_flips(m, t, a, b, proposed);
+          }
+          std::vector<std::array<index_t, 4>> from_exact, from_proposed;
+          for (int p = 0; p < n_exact; ++p)
+            for (int q = 0; q < exact[p].new_count; ++q) from_exact.push_back(exact[p].new_tets[q]);
+          for (int p = 0; p < n_proposed; ++p)
+            if (is_valid_flip(m, proposed[p]))
+              for (int q = 0; q < proposed[p].new_count; ++q) from_proposed.push_back(proposed[p].new_tets[q]);
+          CHECK(from_exact == from_proposed);
+          ++compared;
+        }
+      }
+      // Move away from Delaunay for the next round.
+      for (int done = 0, attempt = 0; done < 200 && attempt < 20000; ++attempt) {
+        const index_t t = std::uniform_int_distribution<index_t>(0, m.slot_count() - 1)(rng);
+        FlipPlan plans[2];
+        if (m.is_live(t) && plan_edge_flips(m, t, m.tet[4 * t], m.tet[4 * t + 1], plans) > 0) {
+          apply_flip(m, plans[0]);
+          ++done;
+        } else if (m.is_live(t) && plan_flip23(m, 4 * t, plans[0])) {
+          apply_flip(m, plans[0]);
+          ++done;
+        }
+      }
+    }
+    CHECK(compared > 1000);
+    CHECK(check_mesh3(m) == "");
+  }
+}
