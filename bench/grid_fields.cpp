@@ -2,20 +2,22 @@
 // (scripts/compare_gdal.sh): scattered samples to CSV, and the error of a
 // gridded result against the true field.
 //
-//   grid_fields points FIELD N SEED out.csv   N uniform random points in [0,1]^2
-//                                             plus the 4 corners, "x,y,z"
+//   grid_fields points FIELD N SEED out.csv [E]  N uniform random points in
+//                                             [0,E]^2 (default E = 1) plus the
+//                                             4 corners, "x,y,z"
 //   grid_fields rmse FIELD image              RMSE and max error of channel 0
 //                                             against FIELD at the pixel centres
+//   grid_fields truth FIELD W H out.exr       FIELD at the pixel centres (float)
 //
-// Fields on the unit square:
+// Fields on the unit square, stretched to [0,E]^2 (f(x / E, y / E)):
 //   fault   a plane 0.3 x + 0.2 y with a unit step across the line
 //           y = 0.3 + 0.6 x (a normal fault seen from above)
 //   ridge   a tent-shaped ridge, max(0, 1 - d / 0.2), d the distance to the
 //           line 0.8 x + 0.6 y = 0.7: a sharp crest and two sharp feet
 //   smooth  Franke's function (R. Franke, 1979), the standard smooth test
 //           function for scattered-data interpolation
-// Pixel centres follow ddtscale grid and gdal_grid over bounds [0,1]^2:
-// pixel (i, j) samples ((i + 0.5) / W, 1 - (j + 0.5) / H), row 0 at the top.
+// Pixel centres follow ddtscale grid and gdal_grid over bounds [0,E]^2:
+// pixel (i, j) samples E ((i + 0.5) / W, 1 - (j + 0.5) / H), row 0 at the top.
 // Pixels that are NaN (no-data) are counted, not scored.
 //
 // Standalone (only OpenImageIO): the script compiles it with
@@ -58,7 +60,7 @@ Field field_named(const std::string& name) {
 // Uniform in [0, 1) from the raw 64-bit engine, the same on every platform.
 double unit(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1.0p-53; }
 
-int write_points(Field f, long n, unsigned long seed, const char* path) {
+int write_points(Field f, long n, unsigned long seed, const char* path, double extent) {
   std::FILE* out = std::fopen(path, "w");
   if (!out) {
     std::fprintf(stderr, "grid_fields: cannot write '%s'\n", path);
@@ -66,11 +68,12 @@ int write_points(Field f, long n, unsigned long seed, const char* path) {
   }
   std::fprintf(out, "x,y,z\n");
   const double corners[4][2] = {{0, 0}, {1, 0}, {0, 1}, {1, 1}};
-  for (const auto& c : corners) std::fprintf(out, "%.17g,%.17g,%.17g\n", c[0], c[1], f(c[0], c[1]));
+  for (const auto& c : corners)
+    std::fprintf(out, "%.17g,%.17g,%.17g\n", c[0] * extent, c[1] * extent, f(c[0], c[1]));
   std::mt19937_64 rng(seed);
   for (long i = 0; i < n; ++i) {
     const double x = unit(rng), y = unit(rng);
-    std::fprintf(out, "%.17g,%.17g,%.17g\n", x, y, f(x, y));
+    std::fprintf(out, "%.17g,%.17g,%.17g\n", x * extent, y * extent, f(x, y));
   }
   return std::fclose(out) == 0 ? 0 : 1;
 }
@@ -102,8 +105,21 @@ int score(Field f, const char* path) {
       worst = std::max(worst, std::abs(d));
       ++scored;
     }
-  std::printf("rmse %.6f max %.6f scored %ld nodata %ld\n", scored ? std::sqrt(sum / scored) : 0.0, worst, scored,
+  std::printf("rmse %.5g max %.4g scored %ld nodata %ld\n", scored ? std::sqrt(sum / scored) : 0.0, worst, scored,
               nodata);
+  return 0;
+}
+
+int write_truth(Field f, int W, int H, const char* path) {
+  std::vector<float> px(static_cast<std::size_t>(W) * H);
+  for (int j = 0; j < H; ++j)
+    for (int i = 0; i < W; ++i) px[static_cast<std::size_t>(j) * W + i] = static_cast<float>(f((i + 0.5) / W, 1.0 - (j + 0.5) / H));
+  auto out = OIIO::ImageOutput::create(path);
+  if (!out || !out->open(path, OIIO::ImageSpec(W, H, 1, OIIO::TypeDesc::FLOAT)) ||
+      !out->write_image(OIIO::TypeDesc::FLOAT, px.data()) || !out->close()) {
+    std::fprintf(stderr, "grid_fields: cannot write '%s'\n", path);
+    return 1;
+  }
   return 0;
 }
 
@@ -111,11 +127,15 @@ int score(Field f, const char* path) {
 
 int main(int argc, char** argv) {
   const std::string cmd = argc > 1 ? argv[1] : "";
-  if (cmd == "points" && argc == 6)
-    return write_points(field_named(argv[2]), std::atol(argv[3]), std::strtoul(argv[4], nullptr, 10), argv[5]);
+  if (cmd == "points" && (argc == 6 || argc == 7))
+    return write_points(field_named(argv[2]), std::atol(argv[3]), std::strtoul(argv[4], nullptr, 10), argv[5],
+                        argc == 7 ? std::atof(argv[6]) : 1.0);
   if (cmd == "rmse" && argc == 4) return score(field_named(argv[2]), argv[3]);
+  if (cmd == "truth" && argc == 6 && std::atoi(argv[3]) > 0 && std::atoi(argv[4]) > 0)
+    return write_truth(field_named(argv[2]), std::atoi(argv[3]), std::atoi(argv[4]), argv[5]);
   std::fprintf(stderr,
-               "usage: grid_fields points FIELD N SEED out.csv | grid_fields rmse FIELD image\n"
+               "usage: grid_fields points FIELD N SEED out.csv [EXTENT] | grid_fields rmse FIELD image |\n"
+               "       grid_fields truth FIELD W H out.exr\n"
                "fields: fault, ridge, smooth\n");
   return 2;
 }

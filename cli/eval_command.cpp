@@ -85,7 +85,7 @@ int run_eval_command(int argc, char** argv) {
       ->capture_default_str();
   std::string optimizer = "lawson";
   std::uint64_t seed = 1;
-  app.add_option("--optimizer", optimizer, "DDT optimizer of every ddt method: lawson or anneal")
+  app.add_option("--optimizer", optimizer, "DDT optimizer of every ddt method: lawson, anneal or lookahead")
       ->check(CLI::IsMember(ddt::optimizer_names()))
       ->capture_default_str();
   app.add_option("--seed", seed, "seed of --optimizer anneal")->capture_default_str();

@@ -204,8 +204,8 @@ int run_grid_command(int argc, char** argv) {
     ddt::PointTable table = ddt::read_point_table(input, read_options);
     const ddt::MergeStats merged = ddt::merge_duplicate_points(table);
     const int C = table.channels;
-    if (png && (C + (options.alpha ? 1 : 0) > 4 || (options.alpha && C == 2)))
-      throw ddt::Error("a PNG holds 1 or 3 value channels (plus alpha); the points have " + std::to_string(C) +
+    if (png && C != 1 && C != 3)  // grey or RGB, then alpha: other counts would read as alpha or fail
+      throw ddt::Error("a PNG holds 1 or 3 value channels; the points have " + std::to_string(C) +
                        ": write .tif or .exr");
     options.cost = cost;
     options.cost_channel = parse_cost_channel(cost_channel, table);

@@ -11,14 +11,18 @@
 #include "image_io.hpp"
 #include "image_mesh.hpp"
 #include "mesh_view.hpp"
+#include "progress.hpp"
 #include "upscale.hpp"
 
 #include <CLI/CLI.hpp>
+#include <OpenImageIO/imageio.h>
+#include <tbb/global_control.h>
 
 #include <chrono>
 #include <cmath>
 #include <cstring>
 #include <iostream>
+#include <memory>
 
 namespace {
 
@@ -33,6 +37,8 @@ struct Arguments {
   long long max_pixels = 1LL << 28;
   bool verbose = false;
   bool quiet = false;
+  int threads = 0;    // 0: all cores
+  int tile_rows = 0;  // 0: automatic, < 0: never
   std::string optimizer = "lawson";
   ddt::AnnealOptions anneal;  // --seed and the --anneal-* schedule
   std::string render = "cubic";
@@ -112,8 +118,9 @@ int run_upscale(int argc, char** argv) {
   bool list_costs = false;
   app.add_flag("--list-costs", list_costs, "print the cost names, one a line, and exit");
   app.add_option("--optimizer", args.optimizer,
-                 "lawson (generalized Lawson: only cost-lowering flips) or anneal (simulated annealing over the "
-                 "same flips, then a Lawson pass)")
+                 "lawson (generalized Lawson: only cost-lowering flips), anneal (simulated annealing over the "
+                 "same flips, then a Lawson pass) or lookahead (Lawson, plus pairs of flips that lower the cost "
+                 "only together)")
       ->check(CLI::IsMember(ddt::optimizer_names()))
       ->capture_default_str();
   app.add_option("--seed", args.anneal.seed, "anneal: seed of the random moves (same seed, same result)")
@@ -137,7 +144,11 @@ int run_upscale(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_flag("-v,--verbose", args.verbose, "report iterations, flips, cost and the time of each stage");
-  app.add_flag("-q,--quiet", args.quiet, "print nothing but errors");
+  app.add_flag("-q,--quiet", args.quiet, "print nothing but errors (and no progress bar)");
+  app.add_option("--threads", args.threads, "threads to use (default: all cores)")->check(CLI::NonNegativeNumber);
+  app.add_option("--tile-rows", args.tile_rows,
+                 "process the image in bands of this many input rows (same output; default: only when it would "
+                 "not fit in half the memory; -1: never)");
   app.footer(
       "\nCosts (the paper's weighted content, sum over triangles of area * weight):\n"
       "  sederberg       weight = mean over the triangle's edges of |g1||g2| - g1.g2 (default)\n"
@@ -149,7 +160,9 @@ int run_upscale(int argc, char** argv) {
       "  abn-edge, jnd-edge, dlp-edge, dp-edge   the same costs as plain sums over interior edges\n"
       "Optimizers: lawson flips while a flip lowers the cost; anneal (simulated annealing) also takes\n"
       "flips that raise it, with probability exp(-increase / T), T cooling geometrically from T0 over\n"
-      "--anneal-steps steps of --anneal-moves proposals per edge, then finishes with lawson.\n"
+      "--anneal-steps steps of --anneal-moves proposals per edge, then finishes with lawson; lookahead\n"
+      "runs lawson, then also keeps a cost-raising flip when a flip of a neighbouring edge then lowers\n"
+      "the total by more, alternating with lawson until neither finds a move.\n"
       "Render: cubic (default) draws a cubic Bézier patch on each triangle from the vertex values and\n"
       "slope-limited gradients (--slopes), smooth like bicubic inside regions, no ringing at edges;\n"
       "linear draws the paper's piecewise-linear surface. Both reproduce the input samples exactly.\n"
@@ -185,9 +198,22 @@ int run_upscale(int argc, char** argv) {
       ddt::check_output_path(args.mesh_view, args.input, !svg);
       if (args.mesh_view == args.output) throw ddt::Error("--mesh must name a file other than the output");
     }
+    // Both cores unless --threads says otherwise (TBB for our stages, OIIO's pool for reading and writing).
+    std::unique_ptr<tbb::global_control> thread_limit;
+    if (args.threads > 0) {
+      thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, args.threads);
+      OIIO::attribute("threads", args.threads);
+    }
+    // A progress bar on a terminal for runs over a second, unless --quiet.
+    ddt::Progress progress;
+    std::unique_ptr<ddt::ProgressBar> bar;
+    if (!args.quiet && ddt::ProgressBar::is_terminal(stderr)) bar = std::make_unique<ddt::ProgressBar>(progress, stderr);
     auto log = [&](const std::string& line) {
-      if (args.verbose) std::cerr << line << "\n";
+      if (!args.verbose) return;
+      if (bar) bar->print(line);
+      else std::cerr << line << "\n";
     };
+    progress.begin("read");
     auto t0 = std::chrono::steady_clock::now();
     ddt::ImageFile file = ddt::read_image(args.input);
     log("read: " + args.input + ", " + std::to_string(file.image.width) + "x" + std::to_string(file.image.height) +
@@ -206,6 +232,8 @@ int run_upscale(int argc, char** argv) {
     options.optimizer = args.optimizer;
     options.anneal = args.anneal;
     if (args.verbose) options.log = log;
+    options.progress = &progress;
+    options.tile_rows = args.tile_rows;
     ddt::Image out = ddt::upscale(file.image, out_w, out_h, options);
     if (!args.compare.empty()) {
       t0 = std::chrono::steady_clock::now();
@@ -229,8 +257,10 @@ int run_upscale(int argc, char** argv) {
     }
 
     t0 = std::chrono::steady_clock::now();
+    progress.begin("write");
     ddt::write_image(args.output, out, file.format, file.alpha_channel);
     log("write: " + args.output + ", " + std::to_string(seconds_since(t0)) + " s");
+    if (bar) bar->stop();
     if (!args.quiet && !args.verbose)
       std::cerr << args.output << ": " << out_w << "x" << out_h << "\n";
     return 0;

@@ -68,7 +68,7 @@ int fail(const char* who, const std::exception& e) {
 int run_volume_upscale(int argc, char** argv) {
   std::string input, output, size_spec, method = "ddt", cost = "variance", picture, type = "same",
                                         encoding = "same";
-  double scale = 0, tolerance = 1e-9;
+  double scale = 0, tolerance = 1e-9, iso = NAN;
   std::vector<std::string> compare;
   long long max_voxels = 1LL << 29;
   bool verbose = false, quiet = false;
@@ -96,6 +96,7 @@ int run_volume_upscale(int argc, char** argv) {
                  "write a PNG of the middle slices and a maximum-intensity projection: one column per "
                  "--compare method, then DDT")
       ;
+  app.add_option("--iso", iso, "with --picture: add a row of shaded isosurfaces at this value");
   app.add_option("--type", type, "output sample type: same, uint8, int8, uint16, int16, uint32, int32, float32, float64")
       ->capture_default_str();
   app.add_option("--encoding", encoding, "output encoding: same, raw, gzip, bzip2, ascii, hex")->capture_default_str();
@@ -202,13 +203,18 @@ int run_volume_upscale(int argc, char** argv) {
       columns.push_back(&result);
       double lo = 0, hi = 1;
       ddt::value_range(src, lo, hi);
-      const ddt::Image views = ddt::compare_views(
-          columns, {ddt::VolumeView::slice_xy, ddt::VolumeView::slice_xz, ddt::VolumeView::slice_yz,
-                    ddt::VolumeView::mip_z},
-          lo, hi);
+      std::vector<ddt::VolumeView> rows = {ddt::VolumeView::slice_xy, ddt::VolumeView::slice_xz,
+                                           ddt::VolumeView::slice_yz, ddt::VolumeView::mip_z};
+      ddt::IsoView iso_view;
+      if (std::isfinite(iso)) {
+        rows.push_back(ddt::VolumeView::isosurface);
+        iso_view.level = iso;
+      }
+      const ddt::Image views = ddt::compare_views(columns, rows, lo, hi, iso_view);
       ddt::write_image(picture, views, ddt::SampleFormat::uint8);
       log("picture: " + picture + " (columns: " + (compare.empty() ? "" : "compare methods, then ") +
-          method + "; rows: x-y, x-z, y-z middle slices, MIP along z)");
+          method + "; rows: x-y, x-z, y-z middle slices, MIP along z" + (std::isfinite(iso) ? ", isosurface" : "") +
+          ")");
     }
     char line[120];
     std::snprintf(line, sizeof line, "peak memory: %.0f MB", peak_memory_mb());

@@ -41,14 +41,17 @@ void check_channels(int K) {
 }  // namespace
 
 const std::vector<std::string>& optimizer_names() {
-  static const std::vector<std::string> names = {"lawson", "anneal"};
+  static const std::vector<std::string> names = {"lawson", "anneal", "lookahead"};
   return names;
 }
 
 void check_optimizer_name(const std::string& name) {
-  for (const auto& n : optimizer_names())
+  std::string valid;
+  for (const auto& n : optimizer_names()) {
     if (n == name) return;
-  throw Error("unknown optimizer '" + name + "' (valid: lawson, anneal)");
+    valid += (valid.empty() ? "" : ", ") + n;
+  }
+  throw Error("unknown optimizer '" + name + "' (valid: " + valid + ")");
 }
 
 void check_anneal_options(const AnnealOptions& o) {

@@ -75,7 +75,8 @@ struct AnnealStats {
   LawsonStats lawson;            // the final pass (zeros when skipped)
 };
 
-// The names optimizer options accept: "lawson" and "anneal".
+// The names optimizer options accept: "lawson" (optimizer.hpp), "anneal"
+// (here) and "lookahead" (lookahead.hpp).
 const std::vector<std::string>& optimizer_names();
 // Throws ddt::Error listing the valid names unless `name` is one of them.
 void check_optimizer_name(const std::string& name);

@@ -43,6 +43,10 @@ std::vector<float> cost_values(const std::vector<float>& values, int C, int cost
   return out;
 }
 
+// v clamped to [-1, n] before the conversion (far-away positions must not
+// overflow an int).
+int to_index(double v, int n) { return static_cast<int>(std::clamp(v, -1.0, static_cast<double>(n))); }
+
 // Per row, the range of columns whose pixel centre lies inside the mesh's
 // convex hull or within `tol` pixels of it. Positions go to pixel space
 // exactly as the rasterizer maps them (pixel centres at integers), so a
@@ -71,8 +75,7 @@ void hull_spans(const Mesh2& mesh, const RenderGrid& grid, double tol, std::vect
   std::vector<std::vector<int>> by_row(H);
   for (int k = 0; k < static_cast<int>(edges.size()); ++k) {
     const double lo = std::min(edges[k].u.y, edges[k].v.y) - 1, hi = std::max(edges[k].u.y, edges[k].v.y) + 1;
-    const int r0 = static_cast<int>(std::max(0.0, std::ceil(lo)));
-    const int r1 = static_cast<int>(std::min(H - 1.0, std::floor(hi)));
+    const int r0 = std::max(0, to_index(std::ceil(lo), H)), r1 = std::min(H - 1, to_index(std::floor(hi), H));
     for (int r = r0; r <= r1; ++r) by_row[r].push_back(k);
   }
   first.assign(H, 0);
@@ -91,8 +94,8 @@ void hull_spans(const Mesh2& mesh, const RenderGrid& grid, double tol, std::vect
       else if (c < 0) empty = true;
     }
     if (empty || !(lo <= hi)) continue;
-    first[Y] = static_cast<int>(std::max(0.0, std::ceil(lo)));
-    last[Y] = static_cast<int>(std::min(W - 1.0, std::floor(hi)));
+    first[Y] = std::max(0, to_index(std::ceil(lo), W));
+    last[Y] = std::min(W - 1, to_index(std::floor(hi), W));
   }
 }
 

@@ -527,10 +527,11 @@ void run_region(Run& run, const Evaluator& evaluator, const Region& region, bool
   run.report_tests(unreported);
 }
 
-// The regions of a partition: `size` triangles each, shifted by `shift`.
-std::vector<Region> partition(index_t triangles, long long size, long long shift) {
+// The regions of a partition: `size` triangles each, the first starting at
+// `start` (in (-size, 0]) and clipped at 0.
+std::vector<Region> partition(index_t triangles, long long size, long long start) {
   std::vector<Region> regions;
-  for (long long lo = -shift; lo < triangles; lo += size) {
+  for (long long lo = start; lo < triangles; lo += size) {
     Region r;
     r.first = static_cast<index_t>(std::max(0LL, lo));
     r.last = static_cast<index_t>(std::min<long long>(triangles, lo + size));
@@ -544,12 +545,13 @@ void optimize_with(Run& run, const Evaluator& evaluator, LawsonStats& stats) {
   Mesh2& mesh = run.mesh;
   const LawsonOptions& options = run.options;
   const index_t T = mesh.triangle_count();
-  const long long size = options.region_triangles > 0 ? options.region_triangles
+  const bool forced = options.region_triangles > 0;
+  const long long size = forced ? options.region_triangles
                          : options.region_triangles == 0 ? default_region_triangles
                                                          : 0;
   double cost_now = stats.cost_before;
 
-  if (size <= 0 || T <= 2 * size) {  // one region: the reference procedure, iteration by iteration
+  if (size <= 0 || (!forced && T <= 2 * size)) {  // one region: the reference procedure, iteration by iteration
     RegionResult result;
     run_region(run, evaluator, Region{0, T}, true, {}, result,
                [&](int iteration, long long flips, double gains) {
@@ -574,11 +576,13 @@ void optimize_with(Run& run, const Evaluator& evaluator, LawsonStats& stats) {
     // max_phases.
     const bool single = phase >= 2 && ((flips_last == 0 && flips_before_last == 0) || phase >= max_phases);
     const long long shift = phase % 2 == 1 ? size / 2 : 0;
-    const std::vector<Region> regions = single ? std::vector<Region>{Region{0, T}} : partition(T, size, shift);
+    const long long boundary = ((options.region_origin + shift) % size + size) % size;  // first boundary >= 0
+    const long long start = boundary == 0 ? 0 : boundary - size;
+    const std::vector<Region> regions = single ? std::vector<Region>{Region{0, T}} : partition(T, size, start);
     if (phase == 0) stats.regions = static_cast<int>(regions.size());
     std::vector<RegionResult> results(regions.size());
     std::vector<std::vector<index_t>> buckets(regions.size());
-    for (index_t h : list) buckets[single ? 0 : static_cast<std::size_t>((tri_of(h) + shift) / size)].push_back(h);
+    for (index_t h : list) buckets[single ? 0 : static_cast<std::size_t>((tri_of(h) - start) / size)].push_back(h);
     list.clear();
     tbb::parallel_for(std::size_t(0), regions.size(), [&](std::size_t r) {
       run_region(run, evaluator, regions[r], phase == 0, std::move(buckets[r]), results[r], no_report);
@@ -653,6 +657,12 @@ FlipCosts flip_costs(const Mesh2& mesh, const std::vector<float>& values, int K,
   out.after = edge(t0n, t1n, c, d) + edge(t1n, n_bc, b, c) + edge(t0n, n_ca, c, a) + edge(t0n, n_ad, a, d) +
               edge(t1n, n_db, d, b);
   return out;
+}
+
+long long image_region_triangles(int width) {
+  const long long row = 2LL * std::max(1, width - 1);  // triangles per row of cells
+  const long long rows = std::max(64LL, (default_region_triangles + row / 2) / row);
+  return rows * row;
 }
 
 LawsonStats optimize_lawson(Mesh2& mesh, const std::vector<float>& values, int K, const CostFunction& cost,

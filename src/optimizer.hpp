@@ -52,9 +52,13 @@ inline constexpr int max_cost_channels = 8;
 struct LawsonOptions {
   double relative_tolerance = 1e-9;
   int max_iterations = 10000;
-  // Triangles per region of the parallel schedule (see above); 0: the
-  // default (default_region_triangles), < 0: always one region.
+  // Triangles per region of the parallel schedule (see above). > 0:
+  // regions of that size whatever the mesh size; 0: default_region_triangles
+  // when the mesh has more than twice that, else one region; < 0: one region.
   long long region_triangles = 0;
+  // A region boundary lies at this triangle id (and every region_triangles
+  // from it): tiles of an image align their regions with the whole image's.
+  long long region_origin = 0;
   // Specialized evaluators for the built-in costs (sederberg, sederberg-edge,
   // variance): the same arithmetic as flip_costs, so the same decisions, and
   // flat quadrilaterals (equal values at a, b, c, d) skipped, where these
@@ -68,7 +72,12 @@ struct LawsonOptions {
   std::function<void(long long)> on_tests;
 };
 
-inline constexpr long long default_region_triangles = 1 << 17;
+inline constexpr long long default_region_triangles = 1 << 18;
+
+// Regions for a pixel grid `width` samples wide: whole rows of cells (at
+// least 64), about default_region_triangles triangles each, as upscale()
+// uses them. Tools that rebuild upscale()'s mesh pass this.
+long long image_region_triangles(int width);
 
 struct LawsonStats {
   int iterations = 0;   // iterations (of the single region), or phases (regions)

@@ -243,6 +243,10 @@ class Problem3 {
       const index_t a = mesh_.tet[4 * t + edge_vertex[k - 4][0]], b = mesh_.tet[4 * t + edge_vertex[k - 4][1]];
       n = propose_edge_flips(mesh_, t, a, b, plans);
     }
+    // A simplex weight depends only on the vertex values: over a region
+    // where they are all equal every tetrahedron has the same weight and
+    // the volume is unchanged, so no flip there can gain.
+    if (n > 0 && !ctx_.facet() && uniform_values(plans[0])) return 0;
     double gains[2] = {0, 0};
     for (int p = 0; p < n; ++p) {
       const LocalCosts lc = local_costs(ctx_, plans[p]);
@@ -267,6 +271,17 @@ class Problem3 {
   const FlipCounts& flips() const { return flips_; }
 
  private:
+  bool uniform_values(const FlipPlan& plan) const {
+    const index_t first = mesh_.tet[4 * plan.old_tets[0]];
+    for (int k = 0; k < plan.old_count; ++k)
+      for (int i = 0; i < 4; ++i) {
+        const index_t v = mesh_.tet[4 * plan.old_tets[k] + i];
+        for (int c = 0; c < ctx_.K; ++c)
+          if (value(ctx_, v, c) != value(ctx_, first, c)) return false;
+      }
+    return true;
+  }
+
   // Faces and edges of the new tetrahedra, and for facet costs those of
   // their neighbours; each edge once per flip.
   template <class Touch>

@@ -168,7 +168,7 @@ PointTable parse_point_table(std::istream& in, const std::string& name, const Po
 
   while (std::getline(in, line)) {
     ++line_no;
-    const std::string where = "cannot read '" + name + "', line " + std::to_string(line_no) + ": ";
+    auto where = [&] { return "cannot read '" + name + "', line " + std::to_string(line_no) + ": "; };
     std::string_view text(line);
     if (line_no == 1 && text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
     if (!text.empty() && text.back() == '\r') text.remove_suffix(1);
@@ -183,7 +183,7 @@ PointTable parse_point_table(std::istream& in, const std::string& name, const Po
     }
     if (csv) {
       const std::string problem = csv->split(text, fields);
-      if (!problem.empty()) throw Error(where + problem);
+      if (!problem.empty()) throw Error(where() + problem);
     } else {
       split_blanks(text, fields);
     }
@@ -196,7 +196,7 @@ PointTable parse_point_table(std::istream& in, const std::string& name, const Po
         table.has_header = true;
         header = fields;
       }
-      resolve_columns(options, header, field_count, selected, where);
+      resolve_columns(options, header, field_count, selected, where());
       table.channels = static_cast<int>(selected.size()) - 2;
       for (int k = 0; k < table.channels; ++k) {
         const int col = selected[k + 2];
@@ -208,29 +208,32 @@ PointTable parse_point_table(std::istream& in, const std::string& name, const Po
     }
 
     if (static_cast<int>(fields.size()) != field_count)
-      throw Error(where + std::to_string(fields.size()) + (fields.size() == 1 ? " field" : " fields") + ", expected " +
+      throw Error(where() + std::to_string(fields.size()) + (fields.size() == 1 ? " field" : " fields") + ", expected " +
                   std::to_string(field_count) + " like the " + (table.has_header ? "header" : "first line"));
     bool drop = false;
     for (std::size_t k = 0; k < selected.size(); ++k) {
       const int col = selected[k];
       const std::string& f = fields[col];
-      std::string label = "field " + std::to_string(col + 1);
-      if (table.has_header && !header[col].empty()) label += " (" + header[col] + ")";
-      if (f.empty()) throw Error(where + label + " is empty");
+      auto label = [&] {
+        std::string l = "field " + std::to_string(col + 1);
+        if (table.has_header && !header[col].empty()) l += " (" + header[col] + ")";
+        return l;
+      };
+      if (f.empty()) throw Error(where() + label() + " is empty");
       const NumberStatus status = parse_number(f, row[k]);
-      if (status == NumberStatus::out_of_range) throw Error(where + label + " " + quoted_field(f) + " is out of range");
+      if (status == NumberStatus::out_of_range) throw Error(where() + label() + " " + quoted_field(f) + " is out of range");
       if (status != NumberStatus::ok) {
         const bool decimal_comma = table.delimiter == ';' && f.find(',') != std::string::npos;
-        throw Error(where + label + " " + quoted_field(f) + " is not a number" +
+        throw Error(where() + label() + " " + quoted_field(f) + " is not a number" +
                     (decimal_comma ? " (decimal commas are not supported)" : ""));
       }
       if (k >= 2 && options.input_nodata && (row[k] == *options.input_nodata || (drop_nan && std::isnan(row[k])))) {
         drop = true;
         continue;
       }
-      if (!std::isfinite(row[k])) throw Error(where + label + " " + quoted_field(f) + " is not a finite number");
+      if (!std::isfinite(row[k])) throw Error(where() + label() + " " + quoted_field(f) + " is not a finite number");
       if (k >= 2 && options.float_values && std::abs(row[k]) > std::numeric_limits<float>::max())
-        throw Error(where + label + " " + quoted_field(f) + " is beyond the 32-bit float range");
+        throw Error(where() + label() + " " + quoted_field(f) + " is beyond the 32-bit float range");
     }
     ++table.lines_read;
     if (drop) {

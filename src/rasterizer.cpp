@@ -3,13 +3,17 @@
 #include "cubic_surface.hpp"
 #include "error.hpp"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+
+#include <atomic>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <numeric>
+#include <type_traits>
 
 namespace ddt {
 namespace {
@@ -32,6 +36,9 @@ int tie_side(const Point2& u, const Point2& v) {
 // rim vertex i, which carries the value (and gradient) of mesh vertex
 // rim_source[i].
 struct Scene {
+  Scene(const Mesh2& m, const std::vector<float>& v, int channels, const RenderGrid& g)
+      : mesh(m), values(v), C(channels), grid(g) {}
+
   const Mesh2& mesh;
   const std::vector<float>& values;
   int C;
@@ -59,14 +66,30 @@ struct Scene {
   }
   const Point2& input_point(index_t v) const { return v < V ? mesh.points[v] : rim_points[v - V]; }
   // Output pixel space: pixel centres at integers.
-  Point2 pos(index_t v) const {
-    const Point2& p = input_point(v);
+  Point2 transform(const Point2& p) const {
     return {(p.x - grid.origin_x) * grid.scale_x - 0.5, (p.y - grid.origin_y) * grid.scale_y - 0.5};
   }
+  Point2 pos(index_t v) const { return v < V && !mesh_pos.empty() ? mesh_pos[v] : transform(input_point(v)); }
+  std::vector<Point2> mesh_pos;  // transform() of the mesh's points, filled by render_mesh_into
   index_t source(index_t v) const { return v < V ? v : rim_source[v - V]; }
   const float* value(index_t v) const { return &values[static_cast<std::size_t>(source(v)) * C]; }
   bool exact(index_t v) const { return v < V ? mesh_exact : rim_exact[v - V] != 0; }
 };
+
+// floor and ceil for values well inside the int range (pixel coordinates,
+// clamped by the callers): a truncation and a correction, much cheaper
+// than std::floor without SSE4.1.
+inline int floor_int(double v) {
+  const int i = static_cast<int>(v);
+  return i - (v < i);
+}
+inline int ceil_int(double v) {
+  const int i = static_cast<int>(v);
+  return i + (v > i);
+}
+// Clamps v into [lo, hi] before the conversion (coordinates of far rim
+// vertices, in pixels, can exceed the int range).
+inline double clamp_pixels(double v) { return std::clamp(v, -1e9, 1e9); }
 
 bool exact_coordinate(double c) {
   return std::abs(c) < 32768.0 && c * 1024.0 == std::floor(c * 1024.0);
@@ -213,73 +236,152 @@ struct Edge {
   }
 };
 
-// Per-band scratch: coverage counts of the band's pixels.
-struct BandState {
-  std::vector<unsigned char> hits;
-};
+template <int C>
+using channels = std::integral_constant<int, C>;  // 0: known at run time only
 
-// Draws the part of triangle t on grid rows [row_begin, row_end) into `out`,
-// whose row 0 is grid row row0; hits counts the band's pixels.
-template <int CT>
-void draw_triangle(const Scene& scene, index_t t, int row_begin, int row_end, int row0, Image& out,
-                   unsigned char* hits) {
-  const int C = CT > 0 ? CT : scene.C;
-  index_t id[3];
-  scene.corners(t, id);
-  const Point2 p0 = scene.pos(id[0]), p1 = scene.pos(id[1]), p2 = scene.pos(id[2]);
-  const bool exact = scene.exact(id[0]) && scene.exact(id[1]) && scene.exact(id[2]);
-  {  // collapsed by the output transform: nothing to own
-    const double d = (p1.x - p0.x) * (p2.y - p0.y) - (p1.y - p0.y) * (p2.x - p0.x);
-    if (exact ? !(d > 0) : orientation(p0, p1, p2) <= 0) return;
-  }
-  const double min_y = std::min({p0.y, p1.y, p2.y}), max_y = std::max({p0.y, p1.y, p2.y});
-  const double min_x = std::min({p0.x, p1.x, p2.x}), max_x = std::max({p0.x, p1.x, p2.x});
-  const int y_lo = std::max(row_begin, static_cast<int>(std::ceil(min_y)));
-  const int y_hi = std::min(row_end - 1, static_cast<int>(std::floor(max_y)));
-  if (y_lo > y_hi) return;
-  const int W = out.width;
-  const int x_min = std::max(0, static_cast<int>(std::ceil(min_x)));
-  const int x_max = std::min(W - 1, static_cast<int>(std::floor(max_x)));
-  if (x_min > x_max) return;
-
-  const Edge edges[3] = {
-      {p0, p1, p1.x - p0.x, p1.y - p0.y, tie_side(p0, p1), exact},
-      {p1, p2, p2.x - p1.x, p2.y - p1.y, tie_side(p1, p2), exact},
-      {p2, p0, p0.x - p2.x, p0.y - p2.y, tie_side(p2, p0), exact},
-  };
-  double slope[3];  // dX/dY along each non-horizontal edge
-  for (int k = 0; k < 3; ++k) slope[k] = edges[k].beta != 0 ? edges[k].alpha / edges[k].beta : 0;
-
-  // Barycentric weights of p1 and p2: lambda1 = E20(p) / d1, lambda2 =
-  // E01(p) / d2 (the edge functions of p2->p0 and p0->p1).
-  const double ax = p0.x - p2.x, ay = p0.y - p2.y;
-  const double bx = p1.x - p0.x, by = p1.y - p0.y;
-  const double d1 = ax * (p1.y - p2.y) - ay * (p1.x - p2.x);
-  const double d2 = bx * (p2.y - p0.y) - by * (p2.x - p0.x);
-  const double inv1 = 1.0 / d1, inv2 = 1.0 / d2;
-  const float *z0 = scene.value(id[0]), *z1 = scene.value(id[1]), *z2 = scene.value(id[2]);
-  const bool cubic = scene.gradients != nullptr;
-  // Linear: value = v0 + (X - p0.x) sx + (Y - p0.y) sy, the plane through
-  // the three vertex values (exact at p0; the other vertices are written
-  // exactly afterwards, see render_mesh).
+// What a triangle paints: the plane through its vertex values (linear) or
+// its Bézier patch (cubic), evaluated at pixel centres.
+template <int CT, bool cubic>
+struct Shader {
+  int C;
+  Point2 p0;
+  double inv_area2;  // 1 / (twice the signed area), in pixels
+  // Linear: value = v0 + (X - p0.x) sx + (Y - p0.y) sy (exact at p0; the
+  // other vertices are written exactly afterwards, see render_mesh).
   double v0[max_channels], sx[max_channels], sy[max_channels];
   // Cubic: Bézier control values, the middle ones pre-scaled by 3 and 6,
   // and the clamp to the vertex values (no overshoot, so no ringing beside
   // edges, whatever the gradients say).
-  double b[max_channels][10], lo[max_channels], hi[max_channels];
-  for (int c = 0; c < C; ++c) {
-    const double dv1 = double(z1[c]) - z0[c], dv2 = double(z2[c]) - z0[c];
-    v0[c] = z0[c];
-    sx[c] = -ay * inv1 * dv1 - by * inv2 * dv2;
-    sy[c] = ax * inv1 * dv1 + bx * inv2 * dv2;
-    if (cubic) {
-      const std::array<double, 10> patch = scene_patch(scene, t, id, c);
-      for (int q = 0; q < 10; ++q) b[c][q] = patch[q] * (q < 3 ? 1.0 : q < 9 ? 3.0 : 6.0);
-      lo[c] = std::min({double(z0[c]), double(z1[c]), double(z2[c])});
-      hi[c] = std::max({double(z0[c]), double(z1[c]), double(z2[c])});
+  double b[cubic ? max_channels : 1][10], lo[cubic ? max_channels : 1], hi[cubic ? max_channels : 1];
+
+  Shader(const Scene& scene, index_t t, const index_t id[3], const Point2& q0, const Point2& p1, const Point2& p2,
+         double area2)
+      : C(CT > 0 ? CT : scene.C), p0(q0), inv_area2(1.0 / area2) {
+    const float *z0 = scene.value(id[0]), *z1 = scene.value(id[1]), *z2 = scene.value(id[2]);
+    const double ux = p1.x - p0.x, uy = p1.y - p0.y, vx = p2.x - p0.x, vy = p2.y - p0.y;
+    for (int c = 0; c < C; ++c) {
+      const double dv1 = double(z1[c]) - z0[c], dv2 = double(z2[c]) - z0[c];
+      if constexpr (!cubic) {
+        v0[c] = z0[c];
+        sx[c] = (dv1 * vy - dv2 * uy) * inv_area2;
+        sy[c] = (dv2 * ux - dv1 * vx) * inv_area2;
+      } else {
+        const std::array<double, 10> patch = scene_patch(scene, t, id, c);
+        for (int q = 0; q < 10; ++q) b[c][q] = patch[q] * (q < 3 ? 1.0 : q < 9 ? 3.0 : 6.0);
+        lo[c] = std::min({double(z0[c]), double(z1[c]), double(z2[c])});
+        hi[c] = std::max({double(z0[c]), double(z1[c]), double(z2[c])});
+      }
     }
   }
+  // Linear: pixels xs..xe of row Y.
+  void row(double Y, int xs, int xe, float* px) const {
+    double base[max_channels];
+    for (int c = 0; c < C; ++c) base[c] = v0[c] + (Y - p0.y) * sy[c] + (xs - p0.x) * sx[c];
+    for (int x = xs; x <= xe; ++x, px += C) {
+      const double dx = x - xs;
+      for (int c = 0; c < C; ++c) px[c] = static_cast<float>(base[c] + dx * sx[c]);
+    }
+  }
+  // Cubic: one pixel from its barycentric weights.
+  void pixel(double l0, double l1, double l2, float* px) const {
+    const double l00 = l0 * l0, l11 = l1 * l1, l22 = l2 * l2;
+    const double m[10] = {l00 * l0, l11 * l1, l22 * l2, l00 * l1, l0 * l11, l11 * l2, l1 * l22, l0 * l22, l00 * l2,
+                          l0 * l1 * l2};
+    for (int c = 0; c < C; ++c) {
+      const double* bc = b[c];
+      // A balanced sum: short dependency chains.
+      const double v = ((bc[0] * m[0] + bc[1] * m[1]) + (bc[2] * m[2] + bc[3] * m[3])) +
+                       ((bc[4] * m[4] + bc[5] * m[5]) + (bc[6] * m[6] + bc[7] * m[7])) + (bc[8] * m[8] + bc[9] * m[9]);
+      px[c] = static_cast<float>(std::clamp(v, lo[c], hi[c]));
+    }
+  }
+};
 
+inline void count_hits(unsigned char* h, int xs, int xe) {
+  for (int x = xs; x <= xe; ++x) h[x] = static_cast<unsigned char>(h[x] < 255 ? h[x] + 1 : 255);
+}
+
+// Draws the part of triangle t on grid rows [row_begin, row_end) into `out`,
+// grid row y to out row y - row0; hits counts the band's pixels.
+template <int CT, bool cubic>
+void draw_triangle(const Scene& scene, index_t t, int row_begin, int row_end, int row0, Image& out,
+                   unsigned char* hits) {
+  index_t id[3];
+  scene.corners(t, id);
+  const Point2 p0 = scene.pos(id[0]), p1 = scene.pos(id[1]), p2 = scene.pos(id[2]);
+  const bool exact = t < scene.T ? scene.mesh_exact : scene.exact(id[0]) && scene.exact(id[1]) && scene.exact(id[2]);
+  const double area2 = (p1.x - p0.x) * (p2.y - p0.y) - (p1.y - p0.y) * (p2.x - p0.x);
+  // Collapsed by the output transform: nothing to own.
+  if (exact ? !(area2 > 0) : orientation(p0, p1, p2) <= 0) return;
+  const double min_y = std::min({p0.y, p1.y, p2.y}), max_y = std::max({p0.y, p1.y, p2.y});
+  const int y_lo = std::max(row_begin, ceil_int(clamp_pixels(min_y)));
+  const int y_hi = std::min(row_end - 1, floor_int(clamp_pixels(max_y)));
+  if (y_lo > y_hi) return;
+  const int W = out.width;
+  const double min_x = std::min({p0.x, p1.x, p2.x}), max_x = std::max({p0.x, p1.x, p2.x});
+  const int x_min = std::max(0, ceil_int(clamp_pixels(min_x)));
+  const int x_max = std::min(W - 1, floor_int(clamp_pixels(max_x)));
+  if (x_min > x_max) return;
+  const Shader<CT, cubic> shader(scene, t, id, p0, p1, p2, area2);
+  const int C = shader.C;
+  const Point2* P[3] = {&p0, &p1, &p2};
+
+  if (exact) {
+    // Exact coordinates: the edge functions E_k of edges p_k -> p_(k+1),
+    // stepped from pixel to pixel, exactly (each value is an edge function
+    // at a pixel centre: a multiple of 2^-20 below 2^33). A centre is
+    // inside edge k when E_k > 0, or E_k == 0 and the tie goes to this
+    // side; E_k > -2^-21 says both. E_k / area2 is the barycentric weight
+    // of the vertex opposite the edge.
+    double row_start[3], step_x[3], step_y[3], threshold[3];
+    for (int k = 0; k < 3; ++k) {
+      const Point2 &u = *P[k], &v = *P[(k + 1) % 3];
+      row_start[k] = (v.x - u.x) * (y_lo - u.y) - (v.y - u.y) * (x_min - u.x);
+      step_x[k] = -(v.y - u.y);
+      step_y[k] = v.x - u.x;
+      threshold[k] = tie_side(u, v) > 0 ? -0x1p-21 : 0.0;
+    }
+    auto inside = [&](const double e[3]) {
+      return (e[0] > threshold[0]) & (e[1] > threshold[1]) & (e[2] > threshold[2]);
+    };
+    for (int y = y_lo; y <= y_hi; ++y) {
+      double e[3] = {row_start[0], row_start[1], row_start[2]};
+      for (int k = 0; k < 3; ++k) row_start[k] += step_y[k];
+      int x = x_min;
+      while (x <= x_max && !inside(e)) {
+        ++x;
+        for (int k = 0; k < 3; ++k) e[k] += step_x[k];
+      }
+      if (x > x_max) continue;
+      const int xs = x;
+      float* px = &out.pixels[out.index(xs, y - row0)];
+      if constexpr (cubic) {
+        for (; x <= x_max && inside(e); ++x, px += C) {
+          shader.pixel(e[1] * shader.inv_area2, e[2] * shader.inv_area2, e[0] * shader.inv_area2, px);
+          for (int k = 0; k < 3; ++k) e[k] += step_x[k];
+        }
+      } else {
+        while (x <= x_max && inside(e)) {
+          ++x;
+          for (int k = 0; k < 3; ++k) e[k] += step_x[k];
+        }
+        shader.row(y, xs, x - 1, px);
+      }
+      count_hits(hits + static_cast<std::size_t>(y - row_begin) * W, xs, x - 1);
+    }
+    return;
+  }
+
+  // General coordinates: per row, the crossing of each edge in floating
+  // point (accurate far below a pixel), then the exact side at the pixels
+  // next to it decides the integer bound.
+  Edge edges[3];
+  double slope[3];  // dX/dY along each non-horizontal edge
+  for (int k = 0; k < 3; ++k) {
+    const Point2 &u = *P[k], &v = *P[(k + 1) % 3];
+    edges[k] = Edge{u, v, v.x - u.x, v.y - u.y, tie_side(u, v), false};
+    slope[k] = edges[k].beta != 0 ? edges[k].alpha / edges[k].beta : 0;
+  }
   for (int y = y_lo; y <= y_hi; ++y) {
     const double Y = y;
     int xs = x_min, xe = x_max;
@@ -289,16 +391,14 @@ void draw_triangle(const Scene& scene, index_t t, int row_begin, int row_end, in
         if (ed.side(xs, Y) < 0) xs = xe + 1;
         continue;
       }
-      // The crossing in floating point is accurate far below a pixel; the
-      // exact side decides the integer bound.
       const double cross = std::clamp(ed.u.x + (Y - ed.u.y) * slope[k], double(x_min) - 1, double(x_max) + 1);
       if (ed.beta > 0) {  // inside for X left of the crossing: a right bound
-        int x = std::min(xe, static_cast<int>(std::floor(cross)));
+        int x = std::min(xe, floor_int(cross));
         while (x + 1 <= xe && ed.side(x + 1, Y) > 0) ++x;
         while (x >= xs && ed.side(x, Y) < 0) --x;
         xe = x;
       } else {  // a left bound
-        int x = std::max(xs, static_cast<int>(std::ceil(cross)));
+        int x = std::max(xs, ceil_int(cross));
         while (x - 1 >= xs && ed.side(x - 1, Y) > 0) --x;
         while (x <= xe && ed.side(x, Y) < 0) ++x;
         xs = x;
@@ -306,32 +406,18 @@ void draw_triangle(const Scene& scene, index_t t, int row_begin, int row_end, in
     }
     if (xs > xe) continue;
     float* px = &out.pixels[out.index(xs, y - row0)];
-    unsigned char* h = hits + static_cast<std::size_t>(y - row_begin) * W;
-    for (int x = xs; x <= xe; ++x)
-      if (h[x] < 255) ++h[x];
-    if (!cubic) {
-      double base[max_channels];
-      for (int c = 0; c < C; ++c) base[c] = v0[c] + (Y - p0.y) * sy[c] + (xs - p0.x) * sx[c];
+    if constexpr (cubic) {
+      // Weights from the edge functions of p1->p2 and p2->p0 (of p0 and p1).
+      const Point2 &a = p1, &b = p2;
       for (int x = xs; x <= xe; ++x, px += C) {
-        const double dx = x - xs;
-        for (int c = 0; c < C; ++c) px[c] = static_cast<float>(base[c] + dx * sx[c]);
+        const double l0 = ((b.x - a.x) * (Y - a.y) - (b.y - a.y) * (x - a.x)) * shader.inv_area2;
+        const double l1 = ((p0.x - b.x) * (Y - b.y) - (p0.y - b.y) * (x - b.x)) * shader.inv_area2;
+        shader.pixel(l0, l1, 1.0 - l0 - l1, px);
       }
-      continue;
+    } else {
+      shader.row(Y, xs, xe, px);
     }
-    const double r1 = ax * (Y - p2.y), r2 = bx * (Y - p0.y);
-    for (int x = xs; x <= xe; ++x, px += C) {
-      const double l1 = (r1 - ay * (x - p2.x)) * inv1;
-      const double l2 = (r2 - by * (x - p0.x)) * inv2;
-      const double l0 = 1.0 - l1 - l2;
-      const double l00 = l0 * l0, l11 = l1 * l1, l22 = l2 * l2;
-      const double m[10] = {l00 * l0, l11 * l1, l22 * l2, l00 * l1, l0 * l11,
-                            l11 * l2, l1 * l22, l0 * l22, l00 * l2, l0 * l1 * l2};
-      for (int c = 0; c < C; ++c) {
-        double v = 0;
-        for (int q = 0; q < 10; ++q) v += b[c][q] * m[q];
-        px[c] = static_cast<float>(std::clamp(v, lo[c], hi[c]));
-      }
-    }
+    count_hits(hits + static_cast<std::size_t>(y - row_begin) * W, xs, xe);
   }
 }
 
@@ -381,36 +467,40 @@ Image render_collinear(const Mesh2& mesh, const std::vector<float>& values, int 
   return out;
 }
 
-// Rows [first, last] (clipped to [row0, row1)) a triangle may own.
+// Rows [first, last] (clipped to [row0, row1)) a triangle may own; first >
+// last when none.
 void row_range(const Scene& scene, index_t t, int row0, int row1, int& first, int& last) {
   index_t id[3];
   scene.corners(t, id);
-  double lo = scene.pos(id[0]).y, hi = lo;
-  for (int k = 1; k < 3; ++k) {
-    const double y = scene.pos(id[k]).y;
-    lo = std::min(lo, y), hi = std::max(hi, y);
-  }
-  first = static_cast<int>(std::max(double(row0), std::ceil(lo)));
-  last = static_cast<int>(std::min(double(row1 - 1), std::floor(hi)));
-  if (first > last) first = row0, last = row0 - 1;
+  const double y0 = scene.pos(id[0]).y, y1 = scene.pos(id[1]).y, y2 = scene.pos(id[2]).y;
+  const double lo = std::min({y0, y1, y2}), hi = std::max({y0, y1, y2});
+  first = std::max(row0, ceil_int(clamp_pixels(lo)));
+  last = std::min(row1 - 1, floor_int(clamp_pixels(hi)));
 }
 
 }  // namespace
 
-Image render_mesh(const Mesh2& mesh, const std::vector<float>& values, int C, const RenderGrid& grid,
-                  RenderStats* stats, bool fill_outside, float outside_value, const std::vector<float>* gradients,
-                  Progress* progress) {
+void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vector<float>& values, int C,
+                      const RenderGrid& grid, RenderStats* stats, bool fill_outside, const std::vector<float>* gradients,
+                      Progress* progress) {
   if (gradients && (gradients->size() != values.size() * 2 || C > max_channels))
     throw Error("render_mesh: cubic mode needs #V x C x 2 gradients and at most 16 channels");
   if (C > max_channels) throw Error("render_mesh: at most 16 channels");
+  if (grid.height > band_rows * 65535) throw Error("render_mesh: the output is too tall");
   RenderStats local;
   const int row0 = grid.rows < 0 ? 0 : std::clamp(grid.first_row, 0, grid.height);
   const int row1 = grid.rows < 0 ? grid.height : std::clamp(grid.first_row + grid.rows, row0, grid.height);
+  if (out.width != grid.width || out.channels != C || out_row < 0 || out_row + (row1 - row0) > out.height)
+    throw Error("render_mesh_into: the image does not hold the rows");
   if (mesh.triangle_count() == 0) {
     if (stats) *stats = local;
-    if (!fill_outside) return Image(grid.width, row1 - row0, C, outside_value);
-    return render_collinear(mesh, values, C, grid, row0, row1);
+    if (!fill_outside) return;
+    const Image line = render_collinear(mesh, values, C, grid, row0, row1);
+    std::copy(line.pixels.begin(), line.pixels.end(), out.pixels.begin() + static_cast<std::ptrdiff_t>(out.index(0, out_row)));
+    return;
   }
+  // Grid row y goes to out row y - shift.
+  const int shift = row0 - out_row;
   Scene scene{mesh, values, C, grid};
   scene.gradients = gradients;
   scene.V = static_cast<index_t>(mesh.points.size());
@@ -418,10 +508,20 @@ Image render_mesh(const Mesh2& mesh, const std::vector<float>& values, int C, co
   if (fill_outside) add_rim(scene);
   local.triangles = scene.T;
   local.rim_triangles = static_cast<long long>(scene.rim_tris.size() / 3);
-  scene.mesh_exact = grid.width <= 32768 && grid.height <= 32768;
-  for (index_t v = 0; v < scene.V && scene.mesh_exact; ++v) {
-    const Point2 p = scene.pos(v);
-    scene.mesh_exact = exact_coordinate(p.x) && exact_coordinate(p.y);
+  std::atomic<bool> exact{grid.width <= 32768 && grid.height <= 32768};
+  tbb::parallel_for(tbb::blocked_range<index_t>(0, scene.V, 1 << 16), [&](const tbb::blocked_range<index_t>& r) {
+    for (index_t v = r.begin(); v < r.end() && exact.load(std::memory_order_relaxed); ++v) {
+      const Point2 p = scene.pos(v);
+      if (!exact_coordinate(p.x) || !exact_coordinate(p.y)) exact = false;
+    }
+  });
+  scene.mesh_exact = exact;
+  {
+    std::vector<Point2> pos(scene.V);
+    tbb::parallel_for(tbb::blocked_range<index_t>(0, scene.V, 1 << 16), [&](const tbb::blocked_range<index_t>& r) {
+      for (index_t v = r.begin(); v < r.end(); ++v) pos[v] = scene.transform(mesh.points[v]);
+    });
+    scene.mesh_pos.swap(pos);
   }
   scene.rim_exact.resize(scene.rim_points.size());
   for (std::size_t i = 0; i < scene.rim_points.size(); ++i) {
@@ -436,13 +536,16 @@ Image render_mesh(const Mesh2& mesh, const std::vector<float>& values, int C, co
   const index_t n_tris = scene.triangle_count();
   const index_t chunk = std::max<index_t>(1 << 14, (n_tris + 255) / 256);
   const int chunks = static_cast<int>((n_tris + chunk - 1) / chunk);
-  std::vector<std::size_t> offset(static_cast<std::size_t>(chunks) * bands + 1, 0);  // [chunk][band] -> count, then start
+  std::vector<std::size_t> offset(static_cast<std::size_t>(chunks) * bands + 1, 0);  // [band][chunk]: count, then start
   auto slot = [&](int k, int b) -> std::size_t& { return offset[static_cast<std::size_t>(b) * chunks + k]; };
+  std::vector<std::uint32_t> span(n_tris);  // first band | last band << 16; first > last: none
   tbb::parallel_for(0, chunks, [&](int k) {
     for (index_t t = k * chunk; t < std::min(n_tris, (k + 1) * chunk); ++t) {
       int first, last;
       row_range(scene, t, row0, row1, first, last);
-      for (int b = (first - row0) / band_rows; first <= last && b <= (last - row0) / band_rows; ++b) ++slot(k, b);
+      const int b0 = first <= last ? (first - row0) / band_rows : 1, b1 = first <= last ? (last - row0) / band_rows : 0;
+      span[t] = static_cast<std::uint32_t>(b0) | static_cast<std::uint32_t>(b1) << 16;
+      for (int b = b0; b <= b1; ++b) ++slot(k, b);
     }
   });
   std::size_t running = 0;
@@ -455,40 +558,43 @@ Image render_mesh(const Mesh2& mesh, const std::vector<float>& values, int C, co
   tbb::parallel_for(0, chunks, [&](int k) {
     std::vector<std::size_t> cursor(bands);
     for (int b = 0; b < bands; ++b) cursor[b] = slot(k, b);
-    for (index_t t = k * chunk; t < std::min(n_tris, (k + 1) * chunk); ++t) {
-      int first, last;
-      row_range(scene, t, row0, row1, first, last);
-      for (int b = (first - row0) / band_rows; first <= last && b <= (last - row0) / band_rows; ++b)
+    for (index_t t = k * chunk; t < std::min(n_tris, (k + 1) * chunk); ++t)
+      for (int b = static_cast<int>(span[t] & 0xffff); b <= static_cast<int>(span[t] >> 16); ++b)
         binned[cursor[b]++] = t;
-    }
   });
+  span = {};
   auto band_begin = [&](int b) { return offset[static_cast<std::size_t>(b) * chunks]; };
   auto band_end = [&](int b) { return b + 1 < bands ? offset[static_cast<std::size_t>(b + 1) * chunks] : running; };
 
   if (progress) progress->begin("render", bands);
-  Image out(grid.width, row1 - row0, C, outside_value);
   std::vector<long long> band_uncovered(bands, 0), band_overcovered(bands, 0);
   std::vector<std::vector<std::pair<int, int>>> holes(bands);  // uncovered pixels (x, y)
   auto draw = [&](index_t t, int row_begin, int row_end, unsigned char* hits) {
+    auto with = [&](auto channels, auto cubic) {
+      draw_triangle<decltype(channels)::value, decltype(cubic)::value>(scene, t, row_begin, row_end, shift, out, hits);
+    };
+    const bool cubic = gradients != nullptr;
     switch (C) {
-      case 1: draw_triangle<1>(scene, t, row_begin, row_end, row0, out, hits); break;
-      case 3: draw_triangle<3>(scene, t, row_begin, row_end, row0, out, hits); break;
-      case 4: draw_triangle<4>(scene, t, row_begin, row_end, row0, out, hits); break;
-      default: draw_triangle<0>(scene, t, row_begin, row_end, row0, out, hits); break;
+      case 1: return cubic ? with(channels<1>{}, std::true_type{}) : with(channels<1>{}, std::false_type{});
+      case 3: return cubic ? with(channels<3>{}, std::true_type{}) : with(channels<3>{}, std::false_type{});
+      case 4: return cubic ? with(channels<4>{}, std::true_type{}) : with(channels<4>{}, std::false_type{});
+      default: return cubic ? with(channels<0>{}, std::true_type{}) : with(channels<0>{}, std::false_type{});
     }
   };
   tbb::parallel_for(0, bands, [&](int b) {
     const int row_begin = row0 + b * band_rows, row_end = std::min(row1, row_begin + band_rows);
     std::vector<unsigned char> hits(static_cast<std::size_t>(row_end - row_begin) * grid.width, 0);
     for (std::size_t i = band_begin(b); i < band_end(b); ++i) draw(binned[i], row_begin, row_end, hits.data());
-    for (std::size_t i = 0; i < hits.size(); ++i) {
-      if (hits[i] == 0) {
-        ++band_uncovered[b];
-        if (fill_outside)
-          holes[b].emplace_back(static_cast<int>(i % grid.width), row_begin - row0 + static_cast<int>(i / grid.width));
-      }
-      if (hits[i] > 1) ++band_overcovered[b];
+    int zero = 0, many = 0;  // a band has fewer than 2^31 pixels
+    for (const unsigned char h : hits) {
+      zero += h == 0;
+      many += h > 1;
     }
+    band_uncovered[b] = zero, band_overcovered[b] = many;
+    if (zero > 0 && fill_outside)
+      for (std::size_t i = 0; i < hits.size(); ++i)
+        if (hits[i] == 0)
+          holes[b].emplace_back(static_cast<int>(i % grid.width), row_begin - shift + static_cast<int>(i / grid.width));
     if (progress) progress->add(1);
   });
   for (int b = 0; b < bands; ++b) local.uncovered += band_uncovered[b], local.overcovered += band_overcovered[b];
@@ -503,7 +609,7 @@ Image render_mesh(const Mesh2& mesh, const std::vector<float>& values, int C, co
     if (p.x != std::floor(p.x) || p.y != std::floor(p.y)) return;
     if (p.x < 0 || p.y < row0 || p.x >= grid.width || p.y >= row1) return;
     const float* z = scene.value(v);
-    float* px = &out.pixels[out.index(static_cast<int>(p.x), static_cast<int>(p.y) - row0)];
+    float* px = &out.pixels[out.index(static_cast<int>(p.x), static_cast<int>(p.y) - shift)];
     for (int c = 0; c < C; ++c) px[c] = z[c];
   });
 
@@ -513,11 +619,20 @@ Image render_mesh(const Mesh2& mesh, const std::vector<float>& values, int C, co
     for (const auto& band : holes)
       for (auto [x, y] : band) {
         const int sx = x > 0 ? x - 1 : std::min(x + 1, grid.width - 1);
-        const int sy = x > 0 || grid.width > 1 ? y : (y > 0 ? y - 1 : std::min(y + 1, out.height - 1));
+        const int sy = x > 0 || grid.width > 1 ? y : (y > out_row ? y - 1 : std::min(y + 1, out_row + row1 - row0 - 1));
         for (int c = 0; c < C; ++c) out.at(x, y, c) = out.at(sx, sy, c);
       }
   }
   if (stats) *stats = local;
+}
+
+Image render_mesh(const Mesh2& mesh, const std::vector<float>& values, int C, const RenderGrid& grid,
+                  RenderStats* stats, bool fill_outside, float outside_value, const std::vector<float>* gradients,
+                  Progress* progress) {
+  const int row0 = grid.rows < 0 ? 0 : std::clamp(grid.first_row, 0, grid.height);
+  const int row1 = grid.rows < 0 ? grid.height : std::clamp(grid.first_row + grid.rows, row0, grid.height);
+  Image out(grid.width, row1 - row0, C, outside_value);
+  render_mesh_into(out, 0, mesh, values, C, grid, stats, fill_outside, gradients, progress);
   return out;
 }
 

@@ -73,4 +73,12 @@ Image render_mesh(const Mesh2& mesh, const std::vector<float>& values, int C, co
                   RenderStats* stats = nullptr, bool fill_outside = true, float outside_value = 0.0f,
                   const std::vector<float>* gradients = nullptr, Progress* progress = nullptr);
 
+// As render_mesh, drawn into `out` (grid.width wide, C channels): grid row
+// first_row + i goes to out row out_row + i; other rows are left alone, and
+// so are pixels no triangle owns when !fill_outside. Throws ddt::Error when
+// out cannot hold the rows.
+void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vector<float>& values, int C,
+                      const RenderGrid& grid, RenderStats* stats = nullptr, bool fill_outside = true,
+                      const std::vector<float>* gradients = nullptr, Progress* progress = nullptr);
+
 }  // namespace ddt

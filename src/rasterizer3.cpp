@@ -36,6 +36,41 @@ int side(const Point3& a, const Point3& b, const Point3& c, const Point3& p) {
   return orient2(a.x, a.y, b.x, b.y, c.x, c.y);
 }
 
+// Error-free transformations (Knuth's TwoSum, FMA TwoProduct): true when
+// x op y was computed without rounding.
+bool exact_sum(double x, double y, double sum) {
+  const double yv = sum - x, xv = sum - yv;
+  return (x - xv) + (y - yv) == 0;
+}
+bool exact_product(double x, double y, double product) { return std::fma(x, y, -product) == 0; }
+
+// u x v in floating point; `exact` tells whether no step rounded.
+void cross(const double u[3], const double v[3], double out[3], bool& exact) {
+  exact = true;
+  for (int k = 0; k < 3; ++k) {
+    const int i = (k + 1) % 3, j = (k + 2) % 3;
+    const double p = u[i] * v[j], q = u[j] * v[i];
+    out[k] = p - q;
+    exact = exact && exact_product(u[i], v[j], p) && exact_product(u[j], v[i], q) && exact_sum(p, -q, out[k]);
+  }
+}
+
+// The sign of n . (q - a) when every step is exact (then +1, -1 or a true
+// 0); returns false when some step rounded.
+bool exact_dot_sign(const double n[3], const Point3& q, const Point3& a, int& sign) {
+  const double d[3] = {q.x - a.x, q.y - a.y, q.z - a.z};
+  if (!exact_sum(q.x, -a.x, d[0]) || !exact_sum(q.y, -a.y, d[1]) || !exact_sum(q.z, -a.z, d[2])) return false;
+  double sum = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double prod = n[k] * d[k];
+    const double next = sum + prod;
+    if (!exact_product(n[k], d[k], prod) || !exact_sum(sum, prod, next)) return false;
+    sum = next;
+  }
+  sign = sum > 0 ? 1 : sum < 0 ? -1 : 0;
+  return true;
+}
+
 // The six faces of the hull box: axis (0 x, 1 y, 2 z) and side (0 min, 1 max).
 struct Box {
   double lo[3], hi[3];
@@ -112,6 +147,8 @@ std::array<Image, 6> render_box_faces(const Mesh3& mesh, const std::vector<float
 // Per-tetrahedron data for coverage and interpolation.
 struct TetSetup {
   Point3 p[4];
+  double raw[4][3];  // (b - a) x (c - a) of face i read in face_vertex order
+  bool raw_exact[4]; // ... computed without rounding
   double n[4][3];    // inward unit normals of the faces (face i opposite vertex i)
   double off[4];     // n . x + off >= 0 inside
   double lam[3][3];  // barycentric numerators' normals (for vertices 1..3)
@@ -176,7 +213,8 @@ Volume render_tetrahedra(const Mesh3& mesh, const std::vector<float>& values, co
       for (int i = 0; i < 4; ++i) {
         const Point3 &a = s.p[face_vertex[i][0]], &b = s.p[face_vertex[i][1]], &c = s.p[face_vertex[i][2]];
         const double u[3] = {b.x - a.x, b.y - a.y, b.z - a.z}, v[3] = {c.x - a.x, c.y - a.y, c.z - a.z};
-        double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+        cross(u, v, s.raw[i], s.raw_exact[i]);
+        const double* n = s.raw[i];
         const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
         for (int k = 0; k < 3; ++k) s.n[i][k] = n[k] / len;
         s.off[i] = -(s.n[i][0] * a.x + s.n[i][1] * a.y + s.n[i][2] * a.z);
@@ -199,9 +237,26 @@ Volume render_tetrahedra(const Mesh3& mesh, const std::vector<float>& values, co
       s.z0 = values[ids[0]];
       for (int i = 0; i < 3; ++i) s.dz[i] = double(values[ids[i + 1]]) - s.z0;
 
+      // Ownership of a sample, face by face: the floating-point distance
+      // when it clears its rounding error by far (tol); else the exact sign
+      // of (b - a) x (c - a) . (q - a) when no step of it rounds (voxel
+      // grids at power-of-two scales), with side()'s tie-break read off the
+      // exact normal; else side() with CGAL's exact predicates.
+      auto face_side = [&](int i, const Point3& q) {
+        const double d = s.n[i][0] * q.x + s.n[i][1] * q.y + s.n[i][2] * q.z + s.off[i];
+        if (d > tol) return 1;
+        if (d < -tol) return -1;
+        int sign = 0;
+        if (s.raw_exact[i] && exact_dot_sign(s.raw[i], q, s.p[face_vertex[i][0]], sign)) {
+          if (sign != 0) return sign;
+          for (int k = 0; k < 3; ++k)
+            if (s.raw[i][k] != 0) return s.raw[i][k] > 0 ? 1 : -1;
+        }
+        return side(s.p[face_vertex[i][0]], s.p[face_vertex[i][1]], s.p[face_vertex[i][2]], q);
+      };
       auto inside = [&](const Point3& q) {
         for (int i = 0; i < 4; ++i)
-          if (side(s.p[face_vertex[i][0]], s.p[face_vertex[i][1]], s.p[face_vertex[i][2]], q) <= 0) return false;
+          if (face_side(i, q) <= 0) return false;
         return true;
       };
       for (int Z = z0; Z <= z1; ++Z) {

@@ -34,6 +34,18 @@ namespace ddt {
 
 Mesh3 delaunay_tetrahedralization(const std::vector<Point3>& points);
 
+// The same mesh as delaunay_tetrahedralization of the voxel centres of an
+// nx x ny x nz grid (ids x fastest, as Volume::index), built in O(n)
+// without a global Delaunay run: the Delaunay cells of a grid are its
+// cubes (the 8 corners of a cube are cospherical, every other point lies
+// outside their sphere), and CGAL's perturbation refines each cube by the
+// lexicographic order of its corners, the same in every cube. So CGAL
+// tetrahedrizes one 2x2x2 cube, and the pattern is repeated and put in the
+// canonical order. Tests check the arrays equal delaunay_tetrahedralization's.
+// Grids with a side of 1 fall back to delaunay_tetrahedralization.
+// Complexity: O(n log n) for the canonical sort, parallel (TBB).
+Mesh3 grid_tetrahedralization(int nx, int ny, int nz);
+
 // True when no vertex of a neighbouring tetrahedron lies strictly inside a
 // tetrahedron's circumsphere (exact predicate), checked across every
 // interior face (local Delaunay everywhere implies global Delaunay).

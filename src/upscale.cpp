@@ -4,14 +4,19 @@
 #include "cubic_surface.hpp"
 #include "error.hpp"
 #include "image_io.hpp"
+#include "lookahead.hpp"
 #include "optimizer.hpp"
 #include "rasterizer.hpp"
 #include "triangulation.hpp"
 
 #include <OpenImageIO/imagebufalgo.h>
+#include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <unistd.h>
 
 namespace ddt {
 namespace {
@@ -22,29 +27,213 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 // The channels that drive flips: colour channels summed, or their
 // luminance (Rec. 601 weights, as in the evaluation's Y) when asked.
-std::vector<float> cost_values(const Image& src, const UpscaleOptions& options, int& K) {
+struct DriveChannels {
   std::vector<int> colour;
+  bool luma = false;
+  int K = 0;
+  bool identity = false;  // the drive values are the pixels themselves
+};
+
+DriveChannels drive_channels(const Image& src, const UpscaleOptions& options) {
+  DriveChannels d;
   for (int c = 0; c < src.channels; ++c)
-    if (c != options.alpha_channel) colour.push_back(c);
-  const std::size_t n = src.pixel_count();
-  if (options.luma_cost && colour.size() >= 3) {
-    K = 1;
-    std::vector<float> luma(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      const float* px = &src.pixels[i * src.channels];
-      luma[i] = 0.299f * px[colour[0]] + 0.587f * px[colour[1]] + 0.114f * px[colour[2]];
-    }
-    return luma;
+    if (c != options.alpha_channel) d.colour.push_back(c);
+  if (options.luma_cost && d.colour.size() >= 3) {
+    d.luma = true;
+    d.K = 1;
+    return d;
   }
-  if (colour.size() > static_cast<std::size_t>(max_cost_channels))
+  if (d.colour.size() > static_cast<std::size_t>(max_cost_channels))
     throw Error("the cost takes at most " + std::to_string(max_cost_channels) + " channels; this image has " +
-                std::to_string(colour.size()) + " (use --cost-channel luma)");
-  if (colour.empty()) colour.push_back(0);  // alpha alone: let it drive
-  K = static_cast<int>(colour.size());
-  std::vector<float> out(n * K);
+                std::to_string(d.colour.size()) + " (use --cost-channel luma)");
+  if (d.colour.empty()) d.colour.push_back(0);  // alpha alone: let it drive
+  d.K = static_cast<int>(d.colour.size());
+  d.identity = d.K == src.channels;
+  return d;
+}
+
+// Drive values of n pixels of C channels.
+std::vector<float> drive_values(const float* pixels, std::size_t n, int C, const DriveChannels& d) {
+  std::vector<float> out(n * d.K);
+  const std::vector<int>& colour = d.colour;
+  if (d.luma) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const float* px = pixels + i * C;
+      out[i] = 0.299f * px[colour[0]] + 0.587f * px[colour[1]] + 0.114f * px[colour[2]];
+    }
+    return out;
+  }
   for (std::size_t i = 0; i < n; ++i)
-    for (int k = 0; k < K; ++k) out[i * K + k] = src.pixels[i * src.channels + colour[k]];
+    for (int k = 0; k < d.K; ++k) out[i * d.K + k] = pixels[i * C + colour[k]];
   return out;
+}
+
+// grid_gradients in parallel: bands of rows with a halo of two rows (the
+// reach of its stencils), so every value is the one the whole image gives.
+std::vector<float> gradients_of(const Image& img, SlopeLimiter limiter) {
+  constexpr int band = 64, halo = 2;
+  if (img.height <= 2 * band) return grid_gradients(img, limiter);
+  std::vector<float> g(img.pixel_count() * img.channels * 2);
+  const std::size_t row_floats = static_cast<std::size_t>(img.width) * img.channels;
+  tbb::parallel_for(0, (img.height + band - 1) / band, [&](int b) {
+    const int y0 = b * band, y1 = std::min(img.height, y0 + band);
+    const int top = std::max(0, y0 - halo), bottom = std::min(img.height, y1 + halo);
+    Image part(img.width, bottom - top, img.channels);
+    std::copy(img.pixels.begin() + static_cast<std::ptrdiff_t>(row_floats * top),
+              img.pixels.begin() + static_cast<std::ptrdiff_t>(row_floats * bottom), part.pixels.begin());
+    const std::vector<float> pg = grid_gradients(part, limiter);
+    std::copy(pg.begin() + static_cast<std::ptrdiff_t>(2 * row_floats * (y0 - top)),
+              pg.begin() + static_cast<std::ptrdiff_t>(2 * row_floats * (y1 - top)),
+              g.begin() + static_cast<std::ptrdiff_t>(2 * row_floats * y0));
+  });
+  return g;
+}
+
+long long physical_memory() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && page > 0 ? static_cast<long long>(pages) * page : 8LL << 30;
+}
+
+// The first output row whose sample lies at or below input row y (its
+// centre y + 0.5 sits at output (y + 0.5) * sy - 0.5; rows of a band are the
+// output rows sampled between its first and its last input row).
+int first_output_row(int y, int in_height, int out_height) {
+  if (y <= 0) return 0;
+  if (y >= in_height) return out_height;
+  const double sy = static_cast<double>(out_height) / in_height;
+  return std::clamp(static_cast<int>(std::ceil(y * sy - 0.5)), 0, out_height);
+}
+
+struct Band {
+  int top, bottom;      // input rows of the band, margins included
+  int out_first, out_end;  // output rows it renders
+};
+
+// Triangulates, optimizes and renders one band of input rows into `out`.
+// Returns the optimizer's statistics (phases in `iterations`).
+LawsonStats run_band(const Image& src, const Band& band, int out_width, int out_height, const UpscaleOptions& options,
+                     const CostFunction& cost, const DriveChannels& drive, long long region_triangles,
+                     int region_rows, const std::string& label, Image& out, UpscaleStats& local) {
+  auto log = [&](const std::string& line) {
+    if (options.log) options.log(label + line);
+  };
+  Progress* progress = options.progress;
+  const int W = src.width, C = src.channels;
+  const bool whole = band.top == 0 && band.bottom == src.height;
+  const std::size_t n = static_cast<std::size_t>(W) * (band.bottom - band.top);
+
+  auto t0 = std::chrono::steady_clock::now();
+  if (progress) progress->begin(label + "triangulate");
+  Mesh2 mesh;
+  {
+    std::vector<Point2> points(n);
+    tbb::parallel_for(band.top, band.bottom, [&](int y) {
+      for (int x = 0; x < W; ++x) points[static_cast<std::size_t>(y - band.top) * W + x] = {x + 0.5, y + 0.5};
+    });
+    mesh = delaunay_triangulation(points);
+  }
+  const double seconds_triangulate = seconds_since(t0);
+  local.seconds_triangulate += seconds_triangulate;
+  local.triangles += mesh.triangle_count();
+  log("triangulate: " + std::to_string(mesh.points.size()) + " points, " + std::to_string(mesh.triangle_count()) +
+      " triangles, " + std::to_string(seconds_triangulate) + " s");
+
+  // The band's samples (the image itself when the band is the image).
+  std::vector<float> band_pixels;
+  if (!whole)
+    band_pixels.assign(src.pixels.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(band.top) * W * C),
+                       src.pixels.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(band.bottom) * W * C));
+  const std::vector<float>& values = whole ? src.pixels : band_pixels;
+
+  t0 = std::chrono::steady_clock::now();
+  LawsonStats ls;
+  if (options.optimize && mesh.triangle_count() > 0) {
+    std::vector<float> own_drive;
+    if (!drive.identity) own_drive = drive_values(values.data(), n, C, drive);
+    const std::vector<float>& drive_vals = drive.identity ? values : own_drive;
+    const int K = drive.K;
+    LawsonOptions lawson;
+    lawson.relative_tolerance = options.relative_tolerance;
+    lawson.max_iterations = options.max_iterations;
+    lawson.region_triangles = region_triangles;
+    if (region_rows > 0)  // boundaries on absolute rows that are multiples of region_rows
+      lawson.region_origin = static_cast<long long>((region_rows - band.top % region_rows) % region_rows) * 2 * (W - 1);
+    if (options.log)
+      lawson.on_iteration = [&](int iteration, long long flips, double total) {
+        char line[160];
+        std::snprintf(line, sizeof line, "optimize: %s %d, %lld flips, cost %.9g",
+                      region_triangles > 0 ? "phase" : "iteration", iteration, flips, total);
+        log(line);
+      };
+    if (progress) {
+      // Expected tests: about twice the interior edges, 3 per triangle
+      // (3.0 measured on photographs; a little more, so the bar ends full).
+      progress->begin(label + "optimize", 3LL * mesh.triangle_count() + mesh.triangle_count() / 8);
+      lawson.on_tests = [progress](long long tests) { progress->set(tests); };
+    }
+    if (options.optimizer == "anneal") {
+      AnnealOptions anneal = options.anneal;
+      if (options.log)
+        anneal.on_step = [&](int step, double temperature, long long flips, double total) {
+          char line[160];
+          std::snprintf(line, sizeof line, "anneal: step %d, T %.4g, %lld flips, cost %.9g", step, temperature,
+                        flips, total);
+          log(line);
+        };
+      const AnnealStats as = optimize_anneal(mesh, drive_vals, K, cost, anneal, lawson);
+      ls = as.lawson;  // the final Lawson pass; totals cover the whole run
+      ls.flips += as.accepted;
+      ls.cost_before = as.cost_before;
+      ls.cost_after = as.cost_after;
+    } else if (options.optimizer == "lookahead") {
+      const LookaheadStats la = optimize_lookahead(mesh, drive_vals, K, cost, lawson);
+      ls = la.first_lawson;  // totals cover all passes and pairs
+      ls.flips = la.lawson_flips + 2 * la.pairs;
+      ls.cost_after = la.cost_after;
+      log("lookahead: " + std::to_string(la.sweeps) + " sweeps, " + std::to_string(la.pairs) + " flip pairs, " +
+          std::to_string(la.lawson_flips) + " single flips");
+    } else {
+      ls = optimize_lawson(mesh, drive_vals, K, cost, lawson);
+    }
+  }
+  const double seconds_optimize = seconds_since(t0);
+  local.seconds_optimize += seconds_optimize;
+  if (options.optimize) {
+    char line[240];
+    std::snprintf(line, sizeof line,
+                  "optimize: cost %s, %d %s, %d regions, %lld tests, %lld flips, cost %.9g -> %.9g, %.3f s", cost.name,
+                  ls.iterations, region_triangles > 0 ? "phases" : "iterations", ls.regions, ls.tests, ls.flips,
+                  ls.cost_before, ls.cost_after, seconds_optimize);
+    log(line);
+  }
+
+  t0 = std::chrono::steady_clock::now();
+  RenderGrid grid;
+  grid.width = out_width;
+  grid.height = out_height;
+  grid.scale_x = static_cast<double>(out_width) / src.width;
+  grid.scale_y = static_cast<double>(out_height) / src.height;
+  grid.first_row = band.out_first;
+  grid.rows = band.out_end - band.out_first;
+  RenderStats rs;
+  std::vector<float> gradients;
+  if (options.render == "cubic") {
+    if (whole) {
+      gradients = gradients_of(src, slope_limiter_by_name(options.slopes));
+    } else {
+      Image part(W, band.bottom - band.top, C);
+      part.pixels = values;
+      gradients = gradients_of(part, slope_limiter_by_name(options.slopes));
+    }
+  }
+  render_mesh_into(out, band.out_first, mesh, values, C, grid, &rs, true,
+                   options.render == "cubic" ? &gradients : nullptr, progress);
+  const double seconds_render = seconds_since(t0);
+  local.seconds_render += seconds_render;
+  log("render: " + std::to_string(out_width) + "x" + std::to_string(band.out_end - band.out_first) + ", " +
+      std::to_string(rs.triangles) + " + " + std::to_string(rs.rim_triangles) + " rim triangles, " +
+      std::to_string(seconds_render) + " s");
+  return ls;
 }
 
 }  // namespace
@@ -57,81 +246,100 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
   if (options.render == "cubic") slope_limiter_by_name(options.slopes);
   check_optimizer_name(options.optimizer);
   if (options.optimizer == "anneal") check_anneal_options(options.anneal);
+  const DriveChannels drive = drive_channels(src, options);
   UpscaleStats local;
-  auto log = [&](const std::string& line) {
-    if (options.log) options.log(line);
-  };
+  const int W = src.width, H = src.height, C = src.channels;
 
-  auto t0 = std::chrono::steady_clock::now();
-  std::vector<Point2> points(src.pixel_count());
-  for (int y = 0; y < src.height; ++y)
-    for (int x = 0; x < src.width; ++x) points[static_cast<std::size_t>(y) * src.width + x] = {x + 0.5, y + 0.5};
-  Mesh2 mesh = delaunay_triangulation(points);
-  local.seconds_triangulate = seconds_since(t0);
-  local.triangles = mesh.triangle_count();
-  log("triangulate: " + std::to_string(mesh.points.size()) + " points, " + std::to_string(mesh.triangle_count()) +
-      " triangles, " + std::to_string(local.seconds_triangulate) + " s");
+  // Regions of the optimizer: whole rows, so that tiles (bands of rows)
+  // cut the same regions as the whole image.
+  const long long cells_row = 2LL * std::max(1, W - 1);
+  const long long triangles = cells_row * std::max(0, H - 1);
+  int region_rows = 0;
+  if (W >= 2 && H >= 2 && options.region_rows >= 0) {
+    if (options.region_rows > 0)
+      region_rows = options.region_rows;
+    else if (triangles > 2 * default_region_triangles)
+      region_rows = static_cast<int>(image_region_triangles(W) / cells_row);
+  }
 
-  t0 = std::chrono::steady_clock::now();
-  if (options.optimize && mesh.triangle_count() > 0) {
-    int K = 0;
-    const std::vector<float> drive = cost_values(src, options, K);
-    LawsonOptions lawson;
-    lawson.relative_tolerance = options.relative_tolerance;
-    lawson.max_iterations = options.max_iterations;
-    if (options.log)
-      lawson.on_iteration = [&](int iteration, long long flips, double total) {
-        char line[160];
-        std::snprintf(line, sizeof line, "optimize: iteration %d, %lld flips, cost %.9g", iteration, flips, total);
-        log(line);
-      };
-    LawsonStats ls;
-    if (options.optimizer == "anneal") {
-      AnnealOptions anneal = options.anneal;
-      if (options.log)
-        anneal.on_step = [&](int step, double temperature, long long flips, double total) {
-          char line[160];
-          std::snprintf(line, sizeof line, "anneal: step %d, T %.4g, %lld flips, cost %.9g", step, temperature,
-                        flips, total);
-          log(line);
-        };
-      const AnnealStats as = optimize_anneal(mesh, drive, K, cost, anneal, lawson);
-      ls = as.lawson;  // the final Lawson pass; totals cover the whole run
-      ls.flips += as.accepted;
-      ls.cost_before = as.cost_before;
-      ls.cost_after = as.cost_after;
-    } else {
-      ls = optimize_lawson(mesh, drive, K, cost, lawson);
+  // Tiles: only where the whole image would not fit (or when asked), and
+  // only with Lawson (annealing's random moves span the image; the
+  // look-ahead's sweeps have no region schedule).
+  int tile_rows = 0;
+  const bool can_tile = W >= 2 && H >= 2 && options.optimizer == "lawson";
+  if (can_tile && options.tile_rows > 0) {
+    tile_rows = options.tile_rows;
+  } else if (can_tile && options.tile_rows == 0) {
+    // Bytes per input pixel while a band is processed: positions 16,
+    // triangles and twins 48, optimizer flags 6 and edge terms 48, drive
+    // values, cubic gradients, the band's own copy of its samples.
+    const double per_pixel = 16 + 48 + 6 + 48 + (drive.identity ? 0 : 4.0 * drive.K) +
+                             (options.render == "cubic" ? 8.0 * C : 0) + 4.0 * C;
+    const double fixed = 4.0 * C * (static_cast<double>(W) * H + static_cast<double>(out_width) * out_height);
+    const double budget = options.max_memory > 0 ? double(options.max_memory) : 0.5 * double(physical_memory());
+    const double whole = fixed + per_pixel * W * H;
+    if (whole > budget) {
+      const double rows = (budget - fixed) / (per_pixel * W);
+      tile_rows = std::max(256, static_cast<int>(rows * 0.8) - 512);
     }
+  }
+  // Bands reproduce the whole image's result only under the region
+  // schedule; an image small enough for one region never needs them.
+  if (tile_rows >= H || region_rows <= 0) tile_rows = 0;
+  const long long region_triangles = region_rows > 0 ? region_rows * cells_row : -1;
+
+  Image out(out_width, out_height, C);
+  if (tile_rows == 0) {
+    const LawsonStats ls = run_band(src, Band{0, H, 0, out_height}, out_width, out_height, options, cost, drive,
+                                    region_triangles, region_rows, "", out, local);
     local.iterations = ls.iterations;
     local.flips = ls.flips;
+    local.tests = ls.tests;
+    local.regions = ls.regions;
     local.cost_before = ls.cost_before;
     local.cost_after = ls.cost_after;
+  } else {
+    // Bands of tile_rows rows with `margin` rows of overlap each side. In a
+    // band, phase k of the optimizer reproduces the whole image's phase k
+    // except within (k + 1) half-regions of the band's cut edges (a phase
+    // reaches half a region across its seams); the margin covers that for
+    // the phases the band needed, with slack for the triangles' height, or
+    // the band is redone with a wider one. So every rendered row sees the
+    // whole image's mesh (docs/performance.md).
+    const int tiles = (H + tile_rows - 1) / tile_rows;
+    int margin = 2 * region_rows + 8;
+    local.tiles = tiles;
+    for (int i = 0; i < tiles; ++i) {
+      const int y0 = i * tile_rows, y1 = std::min(H, y0 + tile_rows);
+      for (;;) {
+        Band band{std::max(0, y0 - margin), std::min(H, y1 + margin), first_output_row(y0, H, out_height),
+                  first_output_row(y1, H, out_height)};
+        UpscaleStats part;
+        const std::string label = "tile " + std::to_string(i + 1) + "/" + std::to_string(tiles) + " ";
+        const LawsonStats ls = run_band(src, band, out_width, out_height, options, cost, drive, region_triangles,
+                                        region_rows, label, out, part);
+        const int needed = (ls.iterations + 1) * ((region_rows + 1) / 2) + 8;
+        if (options.optimize && needed > margin) {
+          margin = needed + region_rows;
+          if (options.log) options.log(label + "margin too narrow for " + std::to_string(ls.iterations) +
+                                       " phases: again with " + std::to_string(margin) + " rows");
+          continue;
+        }
+        local.seconds_triangulate += part.seconds_triangulate;
+        local.seconds_optimize += part.seconds_optimize;
+        local.seconds_render += part.seconds_render;
+        local.triangles += part.triangles;
+        local.iterations = std::max(local.iterations, ls.iterations);
+        local.flips += ls.flips;
+        local.tests += ls.tests;
+        if (i == 0) local.regions = ls.regions;
+        local.cost_before += ls.cost_before;
+        local.cost_after += ls.cost_after;
+        break;
+      }
+    }
+    local.tile_margin = margin;
   }
-  local.seconds_optimize = seconds_since(t0);
-  if (options.optimize) {
-    char line[200];
-    std::snprintf(line, sizeof line, "optimize: cost %s, %d iterations, %lld flips, cost %.9g -> %.9g, %.3f s",
-                  cost.name, local.iterations, local.flips, local.cost_before, local.cost_after,
-                  local.seconds_optimize);
-    log(line);
-  }
-
-  t0 = std::chrono::steady_clock::now();
-  RenderGrid grid;
-  grid.width = out_width;
-  grid.height = out_height;
-  grid.scale_x = static_cast<double>(out_width) / src.width;
-  grid.scale_y = static_cast<double>(out_height) / src.height;
-  RenderStats rs;
-  std::vector<float> gradients;
-  if (options.render == "cubic") gradients = grid_gradients(src, slope_limiter_by_name(options.slopes));
-  Image out = render_mesh(mesh, src.pixels, src.channels, grid, &rs, true, 0.0f,
-                          options.render == "cubic" ? &gradients : nullptr);
-  local.seconds_render = seconds_since(t0);
-  log("render: " + std::to_string(out_width) + "x" + std::to_string(out_height) + ", " +
-      std::to_string(rs.triangles) + " + " + std::to_string(rs.rim_triangles) + " rim triangles, " +
-      std::to_string(local.seconds_render) + " s");
   if (stats) *stats = local;
   return out;
 }

@@ -14,6 +14,7 @@
 
 #include "annealing.hpp"
 #include "image.hpp"
+#include "progress.hpp"
 
 #include <OpenImageIO/imagebuf.h>
 
@@ -30,7 +31,8 @@ struct UpscaleOptions {
   bool optimize = true;             // false: render the initial Delaunay mesh
   double relative_tolerance = 1e-9; // a flip must lower the local cost by more than this fraction
   int max_iterations = 10000;       // safety bound on Lawson sweeps
-  std::string optimizer = "lawson"; // "lawson" or "anneal" (simulated annealing, then Lawson; annealing.hpp)
+  std::string optimizer = "lawson"; // "lawson", "anneal" (simulated annealing, then Lawson; annealing.hpp)
+                                    // or "lookahead" (Lawson with two-flip moves; lookahead.hpp)
   AnnealOptions anneal;             // the annealing schedule and seed, when optimizer == "anneal"
   // Surface drawn on the mesh: "cubic" (default; cubic Bézier patches from
   // slope-limited vertex gradients, cubic_surface.hpp) or "linear" (the
@@ -38,6 +40,19 @@ struct UpscaleOptions {
   std::string render = "cubic";
   std::string slopes = "mc4";       // slope limiter of the cubic mode: mc4, mc, central, minmod
   std::function<void(const std::string&)> log;  // verbose lines; may be empty
+  // Speed and memory (docs/performance.md). Regions of the parallel
+  // optimizer in rows of input pixels: 0 automatic (optimizer.hpp), < 0
+  // one region (the plain sequential order).
+  int region_rows = 0;
+  // Tiles: bands of tile_rows input rows, full width, with overlapping
+  // margins, each triangulated, optimized and rendered on its own; the
+  // output is the untiled one, bit for bit. 0: automatic (tiles only when
+  // the whole image would need more than max_memory bytes), < 0: never.
+  // Only under the region schedule (region_rows > 0, or automatic on
+  // images of more than 2 * default_region_triangles triangles).
+  int tile_rows = 0;
+  long long max_memory = 0;         // 0: half the physical memory
+  Progress* progress = nullptr;     // stages and work done, for a progress bar; may be null
 };
 
 // The render modes, and a check that throws ddt::Error listing them.
@@ -50,6 +65,10 @@ struct UpscaleStats {
   long long triangles = 0;
   double cost_before = 0, cost_after = 0;
   double seconds_triangulate = 0, seconds_optimize = 0, seconds_render = 0;
+  long long tests = 0;   // edge tests of the optimizer
+  int regions = 1;       // optimizer regions (of the first tile)
+  int tiles = 1;         // bands the image was processed in
+  int tile_margin = 0;   // rows of overlap on each side of a tile
 };
 
 // Enlarges `src` to out_width x out_height (each >= 1).

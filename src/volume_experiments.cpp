@@ -72,6 +72,14 @@ std::vector<VolumeExperimentRow> run_volume_experiments(const VolumeExperimentOp
           (std::filesystem::path(options.picture_dir) / (name + "-x" + std::to_string(options.scale) + ".png")).string();
       write_image(path, picture, SampleFormat::uint8);
       log("picture: " + path);
+      IsoView iso;
+      iso.level = field.iso_level;
+      iso.zoom = 1.8;
+      iso.size = 2 * N;
+      const std::string iso_path = (std::filesystem::path(options.picture_dir) /
+                                    (name + "-x" + std::to_string(options.scale) + "-iso.png")).string();
+      write_image(iso_path, compare_views(columns, {VolumeView::isosurface}, 0.0, 1.0, iso), SampleFormat::uint8);
+      log("picture: " + iso_path);
     }
   }
   return rows;

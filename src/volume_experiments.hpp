@@ -15,7 +15,9 @@
 // Pictures (when picture_dir is set): <dir>/<field>-x<scale>.png, one
 // column per picture_methods entry after the reference, rows: middle x-y
 // slice, middle x-z slice, maximum-intensity projection along z; grey
-// levels 0..1.
+// levels 0..1. And <dir>/<field>-x<scale>-iso.png, the same columns as
+// shaded isosurfaces at the field's iso_level (volume_pictures.hpp), each
+// 2 * size * scale pixels square.
 //
 // Errors: throws ddt::Error (unknown field, method or cost; unwritable
 // directory).
@@ -30,10 +32,10 @@ struct VolumeExperimentOptions {
   int size = 32;
   int scale = 4;
   int input_ss = 8;
-  int reference_ss = 4;
+  int reference_ss = 6;
   std::vector<std::string> fields = {"sphere", "hydrogen"};
   std::vector<std::string> methods = {"trilinear", "tricubic", "delaunay", "ddt:variance", "ddt:sederberg"};
-  std::vector<std::string> picture_methods = {"trilinear", "ddt:variance"};
+  std::vector<std::string> picture_methods = {"trilinear", "ddt:variance", "ddt:sederberg"};
   std::string picture_dir;  // empty: no pictures
   std::function<void(const std::string&)> log;
 };

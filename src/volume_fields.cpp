@@ -31,9 +31,9 @@ double hydrogen(double x, double y, double z) {
 
 const std::vector<VolumeField>& volume_fields() {
   static const std::vector<VolumeField> fields = {
-      {"sphere", "solid ball of radius 0.35 centred in the cube, 1 inside, 0 outside", &sphere},
+      {"sphere", "solid ball of radius 0.35 centred in the cube, 1 inside, 0 outside", &sphere, 0.5},
       {"hydrogen", "hydrogen 3d_z2 orbital density r^4 exp(-2r/3) (3cos^2 - 1)^2 over [-20, 20]^3 a0, max 1",
-       &hydrogen},
+       &hydrogen, 0.1},
   };
   return fields;
 }

@@ -36,6 +36,7 @@ struct VolumeField {
   std::string name;
   std::string description;
   std::function<double(double x, double y, double z)> value;  // on [0,1]^3
+  double iso_level = 0.5;  // a level whose isosurface shows the field's shape
 };
 
 const std::vector<VolumeField>& volume_fields();  // sphere, hydrogen

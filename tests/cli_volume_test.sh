@@ -46,7 +46,7 @@ run_ok "size, type, encoding" "$work/s.nrrd" "$work/sz.nrrd" --size 12x14x16 --t
 [ "$(header type "$work/sz.nrrd")" = "float" ] && [ "$(header encoding "$work/sz.nrrd")" = "raw" ] && ok ||
   bad "--type/--encoding not applied"
 run_ok "verbose, compare, picture" "$work/s.nrrd" "$work/v.nrrd" --scale 3 --verbose --compare trilinear,tricubic \
-  --picture "$work/v.png"
+  --picture "$work/v.png" --iso 100
 grep -q "flips 2-3: [0-9]*, 3-2: [0-9]*, 4-4: [0-9]*, 2-2: [0-9]*" "$work/err.txt" && grep -q "cost variance" "$work/err.txt" &&
   grep -q "peak memory" "$work/err.txt" && ok || bad "--verbose does not report flips of each kind, cost and memory"
 [ -f "$work/v.trilinear.nrrd" ] && [ -f "$work/v.tricubic.nrrd" ] && ok || bad "--compare did not write the baselines"
@@ -59,7 +59,7 @@ run_ok "volume-eval" volume-eval --size 5 --scale 2 --methods trilinear,ddt --in
 grep -q "| sphere | ddt |" "$work/out.txt" && ok || bad "volume-eval printed no table"
 
 run_ok "help" "$work/s.nrrd" --help
-for opt in --scale --size --method --cost --compare --picture --type --encoding --tolerance --max-voxels --verbose --quiet; do
+for opt in --scale --size --method --cost --compare --picture --iso --type --encoding --tolerance --max-voxels --verbose --quiet; do
   grep -q -- "$opt" "$work/out.txt" && ok || bad "--help does not mention $opt"
 done
 

@@ -241,3 +241,17 @@ TEST_CASE("propose_* + is_valid_flip: exactly the flips plan_* offers (grid and 
     CHECK(check_mesh3(m) == "");
   }
 }
+
+TEST_CASE("grid_tetrahedralization: the same arrays as CGAL's Delaunay of the voxel centres") {
+  for (const auto& n : std::vector<std::array<int, 3>>{{2, 2, 2}, {3, 2, 2}, {5, 4, 6}, {7, 3, 2}, {6, 6, 6}, {2, 9, 3}}) {
+    CAPTURE(n[0]);
+    CAPTURE(n[1]);
+    CAPTURE(n[2]);
+    const Mesh3 fast = grid_tetrahedralization(n[0], n[1], n[2]);
+    const Mesh3 cgal = delaunay_tetrahedralization(grid_points3(n[0], n[1], n[2]));
+    CHECK(fast.tet == cgal.tet);
+    CHECK(fast.opp == cgal.opp);
+    CHECK(check_mesh3(fast) == "");
+  }
+  CHECK(grid_tetrahedralization(4, 4, 1).tet_count() == 0);  // flat: no tetrahedra
+}

@@ -6,6 +6,7 @@
 #include <teem/nrrd.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -112,7 +113,10 @@ TEST_CASE("write_volume: spacing, directions and origin are scaled so samples ke
   CHECK(n->spaceOrigin[0] == doctest::Approx(10 - 0.375 * 0.5));
   CHECK(n->spaceOrigin[1] == doctest::Approx(-5 - 0.25 * 0.6));
   CHECK(n->spaceOrigin[2] == doctest::Approx(1.0));
-  CHECK(std::string(nrrdKeyValueGet(n, "modality")) == "CT");
+  char* modality = nrrdKeyValueGet(n, "modality");  // Teem returns a copy we must free
+  REQUIRE(modality != nullptr);
+  CHECK(std::string(modality) == "CT");
+  free(modality);
   nrrdNuke(n);
 }
 

@@ -178,3 +178,21 @@ TEST_CASE("run_volume_experiments: a tiny run scores every method") {
   o.methods = {"ddt:nope"};
   CHECK_THROWS_AS(run_volume_experiments(o), Error);
 }
+
+TEST_CASE("isosurface_view: a ball is a lit disc in the middle and background at the corners") {
+  const Volume ball = sample_field(find_volume_field("sphere"), 16, 16, 16, 2);
+  IsoView iso;
+  iso.level = 0.5;
+  const Image img = isosurface_view(ball, iso, 32);
+  CHECK(img.at(16, 16) > 0.8f);  // facing the headlight
+  CHECK(img.at(0, 0) == 0.0f);
+  CHECK(img.at(31, 31) == 0.0f);
+  int lit = 0;
+  for (float v : img.pixels) lit += v > 0;
+  // The ball's radius is 0.35 of the side; the picture spans the bounding sphere (sqrt(3)/2 of the side).
+  const double expected = M_PI * std::pow(0.35 / (std::sqrt(3.0) / 2) * 16, 2);
+  CHECK(lit == doctest::Approx(expected).epsilon(0.1));
+  const Image row = compare_views({&ball, &ball}, {VolumeView::isosurface}, 0, 1, iso);
+  CHECK(row.width == 4 + 2 * (16 + 4));
+  CHECK(row.height == 4 + 16 + 4);
+}

@@ -4,12 +4,12 @@
 //
 //   paper_experiments fig1 IMAGE --crop 40x32+44+46 --scale 10 --out fig1.png
 //     Figure 1: bicubic (left) beside DDT (right).
-//   paper_experiments fig8 IMAGE --crop 40x40+24+50 --scale 6 --seed 1 --out fig8.png
+//   paper_experiments fig8 IMAGE --crop 40x40+24+50 --scale 6 --seed 1 --mesh-roi 2,18,20,20 --out fig8.png
 //     Figure 8: Lawson's optimization (top row) and simulated annealing
-//     (bottom row); left the reconstruction, right the mesh over the input
-//     pixels, the edges the optimizer created in orange.
+//     (bottom row); left the reconstruction, right the mesh of the framed
+//     part over the input pixels, the edges the optimizer created in orange.
 //
-//   paper_experiments smooth IMAGE... --cost sederberg,variance --seeds 1,2,3
+//   paper_experiments smooth IMAGE... --cost sederberg,variance --seeds 1,2,3 [--lookahead]
 //     (an IMAGE "scene:NAME@WxH" renders a synthetic scene, synthetic_scenes.hpp)
 //     Where do the flips land? Prints a Markdown table per image: for the
 //     Lawson mesh and the annealed mesh of every cost (and seed), how the
@@ -37,6 +37,7 @@
 #include "costs.hpp"
 #include "error.hpp"
 #include "image_io.hpp"
+#include "lookahead.hpp"
 #include "mesh_view.hpp"
 #include "optimizer.hpp"
 #include "rasterizer.hpp"
@@ -181,7 +182,7 @@ std::string percent(long long part, long long whole) {
 }
 
 int run_smooth(const std::vector<std::string>& images, const std::vector<std::string>& costs,
-               const std::vector<std::uint64_t>& seeds, const AnnealOptions& schedule) {
+               const std::vector<std::uint64_t>& seeds, const AnnealOptions& schedule, bool with_lookahead) {
   for (const std::string& path : images) {
     const Image img = load(path);
     int K = 0;
@@ -213,6 +214,12 @@ int run_smooth(const std::vector<std::string>& images, const std::vector<std::st
         const auto t0 = std::chrono::steady_clock::now();
         const LawsonStats st = optimize_lawson(m, values, K, cost);
         row("lawson", m, st.cost_after, st.flips, "", seconds_since(t0));
+      }
+      if (with_lookahead) {
+        Mesh2 m = start;
+        const auto t0 = std::chrono::steady_clock::now();
+        const LookaheadStats st = optimize_lookahead(m, values, K, cost);
+        row("lookahead", m, st.cost_after, st.lawson_flips + 2 * st.pairs, "", seconds_since(t0));
       }
       for (std::uint64_t seed : seeds) {
         Mesh2 m = start;
@@ -303,16 +310,32 @@ int run_fig1(const std::string& path, const std::string& crop_spec, double scale
   return 0;
 }
 
-// Figure 8: rows Lawson and annealing, columns the reconstruction at
-// `scale` and the mesh over the input pixels (created edges in orange).
+// A one-pixel white frame around `r` (input pixels) on an image enlarged by `scale`.
+void frame(Image& img, const PixelRegion& r, double scale) {
+  const int x0 = static_cast<int>(r.x * scale), y0 = static_cast<int>(r.y * scale);
+  const int x1 = std::min(img.width, static_cast<int>((r.x + r.width) * scale)) - 1;
+  const int y1 = std::min(img.height, static_cast<int>((r.y + r.height) * scale)) - 1;
+  auto set = [&](int x, int y) {
+    for (int c = 0; c < std::min(img.channels, 3); ++c) img.at(x, y, c) = 1.0f;
+  };
+  for (int x = x0; x <= x1; ++x) set(x, y0), set(x, y1);
+  for (int y = y0; y <= y1; ++y) set(x0, y), set(x1, y);
+}
+
+// Figure 8: rows Lawson and annealing; left the reconstruction at `scale`
+// (the region of the mesh view framed in white), right the mesh over the
+// input pixels of `mesh_roi` (the edges the optimizer created in orange),
+// enlarged to the reconstruction's height.
 int run_fig8(const std::string& path, const std::string& crop_spec, double scale, const std::string& cost_name,
-             const AnnealOptions& schedule, const std::string& out, int mesh_magnification) {
+             const AnnealOptions& schedule, const std::string& out, PixelRegion mesh_roi) {
   const Image img = crop(read_image(path).image, crop_spec);
   const CostFunction& cost = find_cost(cost_name);
   int K = 0;
   const std::vector<float> values = drive_values(img, K);
   const Mesh2 start = initial_mesh(img);
   const RenderGrid grid = scaled_grid(img, scale);
+  if (mesh_roi.width == 0) mesh_roi = {0, 0, img.width, img.height};
+  const int magnification = std::max(1, grid.height / mesh_roi.height);
   const std::string mesh_tmp = out + ".mesh.tmp.png";
   std::vector<Image> rows;
   for (const std::string optimizer : {"lawson", "anneal"}) {
@@ -327,10 +350,12 @@ int run_fig8(const std::string& path, const std::string& crop_spec, double scale
                   static_cast<unsigned long long>(schedule.seed), st.initial_temperature, st.accepted, st.uphill,
                   st.lawson.flips, st.cost_before, st.cost_annealed, st.cost_after);
     }
-    write_mesh_view(mesh_tmp, m, &start, img, {}, mesh_magnification);
+    write_mesh_view(mesh_tmp, m, &start, img, mesh_roi, magnification);
     const Image mesh_img = read_image(mesh_tmp).image;
     std::filesystem::remove(mesh_tmp);
-    rows.push_back(beside({render_mesh(m, img.pixels, img.channels, grid), mesh_img}, 4));
+    Image rendered = render_mesh(m, img.pixels, img.channels, grid);
+    if (mesh_roi.width < img.width || mesh_roi.height < img.height) frame(rendered, mesh_roi, scale);
+    rows.push_back(beside({rendered, mesh_img}, 4));
   }
   write_image(out, above(rows, 4), SampleFormat::uint8);
   std::printf("fig8: %s\n", out.c_str());
@@ -354,7 +379,6 @@ int main(int argc, char** argv) {
   auto* fig8 = app.add_subcommand("fig8", "Lawson above annealing: reconstructions at --scale and meshes");
   std::string image, out, crop_spec, cost = "sederberg";
   double scale = 6;
-  int magnification = 6;
   for (CLI::App* sub : {fig1, fig8}) {
     sub->add_option("image", image, "input image")->required();
     sub->add_option("--crop", crop_spec, "WxH+X+Y: the part of the image to use (default: all)");
@@ -363,8 +387,8 @@ int main(int argc, char** argv) {
     sub->add_option("--out", out, "the figure (PNG)")->required();
   }
   fig8->add_option("--seed", schedule.seed, "annealing seed")->capture_default_str();
-  fig8->add_option("--mesh-magnification", magnification, "input pixels to mesh-view pixels (= --scale: same size)")
-      ->capture_default_str();
+  std::string mesh_roi;
+  fig8->add_option("--mesh-roi", mesh_roi, "x,y,w,h in the crop: the part the mesh view shows (default: all)");
   add_schedule(fig8);
 
   auto* smooth = app.add_subcommand("smooth", "where the flips land, by local variance");
@@ -373,13 +397,16 @@ int main(int argc, char** argv) {
   smooth->add_option("images", images, "input images, or scene:NAME@WxH")->required();
   smooth->add_option("--cost", costs, "costs, comma-separated")->delimiter(',')->capture_default_str();
   smooth->add_option("--seeds", seeds, "annealing seeds, comma-separated")->delimiter(',')->capture_default_str();
+  bool lookahead = false;
+  smooth->add_flag("--lookahead", lookahead, "also a row for the look-ahead optimizer (lookahead.hpp)");
   add_schedule(smooth);
 
   CLI11_PARSE(app, argc, argv);
   try {
     if (fig1->parsed()) return run_fig1(image, crop_spec, scale, cost, out);
-    if (fig8->parsed()) return run_fig8(image, crop_spec, scale, cost, schedule, out, magnification);
-    return run_smooth(images, costs, seeds, schedule);
+    if (fig8->parsed())
+      return run_fig8(image, crop_spec, scale, cost, schedule, out, mesh_roi.empty() ? PixelRegion{} : parse_region(mesh_roi));
+    return run_smooth(images, costs, seeds, schedule, lookahead);
   } catch (const std::exception& e) {
     std::cerr << "paper_experiments: " << e.what() << "\n";
     return 1;

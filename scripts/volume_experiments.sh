@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# Reproduces the figures of docs/volumes.md:
+#   1. the paper's 3D experiments (sphere and hydrogen orbital, 32^3, x4):
+#      docs/volumes/experiments.md and the pictures docs/volumes/*.png;
+#   2. the benchmark (hydrogen orbital at 32^3, 64^3, 128^3, x2 and x4; time
+#      of each stage and peak memory): docs/volumes/benchmark.md.
+# Usage: scripts/volume_experiments.sh [BUILD_DIR] [experiments|benchmark|all]
+# BUILD_DIR defaults to build (configured and built here when missing).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=${1:-build}
+what=${2:-all}
+bin="$build/ddtscale"
+if [ ! -x "$bin" ]; then
+  cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release
+  cmake --build "$build" -j"$(nproc)" --target ddtscale
+fi
+mkdir -p docs/volumes
+
+if [ "$what" = all ] || [ "$what" = experiments ]; then
+  "$bin" volume-eval --size 32 --scale 4 --pictures docs/volumes --table docs/volumes/experiments.md
+fi
+
+if [ "$what" = all ] || [ "$what" = benchmark ]; then
+  tmp=$(mktemp -d)
+  trap 'rm -rf "$tmp"' EXIT
+  # stage NAME LOG: the seconds at the end of the verbose line "NAME: ..., T s".
+  stage() { sed -n "s/^$1: .*, \([0-9.]*\) s\$/\1/p" "$2" | tail -1; }
+  {
+    echo "| input | scale | output | tetrahedra | flips | tetrahedralize (s) | optimize (s) | render (s) | total (s) | peak memory (MB) |"
+    echo "|---|---|---|---|---|---|---|---|---|---|"
+    for n in 32 64 128; do
+      "$bin" volume-field hydrogen "$tmp/h$n.nrrd" --size "$n" --supersample 2
+      for s in 2 4; do
+        start=$(date +%s.%N)
+        "$bin" "$tmp/h$n.nrrd" "$tmp/out.nrrd" --scale "$s" --verbose 2>"$tmp/log"
+        end=$(date +%s.%N)
+        tets=$(sed -n 's/^tetrahedralize: [0-9]* points, \([0-9]*\) tetrahedra.*/\1/p' "$tmp/log")
+        flips=$(sed -n 's/^optimize: cost .*(total \([0-9]*\)).*/\1/p' "$tmp/log")
+        memory=$(sed -n 's/^peak memory: \([0-9]*\) MB/\1/p' "$tmp/log")
+        printf "| %d^3 | x%d | %d^3 | %s | %s | %s | %s | %s | %.1f | %s |\n" "$n" "$s" $((n * s)) "$tets" "$flips" \
+          "$(stage tetrahedralize "$tmp/log")" "$(stage optimize "$tmp/log")" "$(stage render "$tmp/log")" \
+          "$(echo "$end - $start" | bc)" "$memory"
+        rm -f "$tmp/out.nrrd"
+      done
+    done
+  } | tee docs/volumes/benchmark.md
+fi
