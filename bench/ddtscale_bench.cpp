@@ -8,6 +8,8 @@
 //     --large N         the large case: an N x N input at x2 (default 8192; 0 skips it)
 //     --work DIR        scratch directory (default /tmp/ddtscale-bench)
 //     --markdown FILE   also write the tables there
+//     --only PARTS      run only these parts, comma-separated: end-to-end, growth,
+//                       stages (the stages alone), large (default: all)
 //   ddtscale_bench stages IN OUT SCALE [linear|cubic]
 //                     (used by the above) one run in this process: read, upscale,
 //                     write, printing the seconds of each stage
@@ -262,6 +264,10 @@ int main(int argc, char** argv) {
     if (argc >= 2 && std::strcmp(argv[1], "stages") == 0) return stages_main(argc, argv);
     std::string input, markdown, work = "/tmp/ddtscale-bench";
     int runs = 5, large = 8192;
+    std::string only;  // empty: every part
+    auto wanted = [&](const std::string& part) {
+      return only.empty() || ("," + only + ",").find("," + part + ",") != std::string::npos;
+    };
     std::vector<int> sizes = {256, 512, 1024, 2048};
     for (int i = 1; i < argc; ++i) {
       const std::string a = argv[i];
@@ -274,6 +280,7 @@ int main(int argc, char** argv) {
       else if (a == "--large") large = std::atoi(next().c_str());
       else if (a == "--work") work = next();
       else if (a == "--markdown") markdown = next();
+      else if (a == "--only") only = next();
       else if (a == "--sizes") {
         sizes.clear();
         std::stringstream ss(next());
@@ -288,7 +295,7 @@ int main(int argc, char** argv) {
     }
     const fs::path self = fs::canonical("/proc/self/exe");
     const std::string ddtscale = (self.parent_path() / "ddtscale").string();
-    if (!fs::exists(ddtscale)) throw std::runtime_error("no ddtscale beside this program: " + ddtscale);
+    if (wanted("end-to-end") && !fs::exists(ddtscale)) throw std::runtime_error("no ddtscale beside this program: " + ddtscale);
     fs::create_directories(work);
     const fs::path W = work;
     std::string report;
@@ -329,7 +336,7 @@ int main(int argc, char** argv) {
     emit("Input: 1024x1024 RGB 8-bit PNG, " + description + ".\n\n");
 
     // End to end, x4 to EXR, against oiiotool.
-    {
+    if (wanted("end-to-end")) {
       std::vector<double> t_oiio, t_cubic, t_linear;
       std::vector<double> r_oiio, r_cubic, r_linear;
       const std::string out_oiio = (W / "out_oiio.exr").string(), out_ddt = (W / "out_ddt.exr").string();
@@ -359,7 +366,7 @@ int main(int argc, char** argv) {
     }
 
     // Stages and growth (child processes: own peak memory).
-    {
+    if (wanted("growth")) {
       Table t{{"input", "output", "read", "triangulate", "optimize", "render", "write", "total", "Mpix in/s",
                "peak RSS", "RSS / input px"},
               {}};
@@ -382,7 +389,7 @@ int main(int argc, char** argv) {
     }
 
     // The parts alone, in this process, on 1 thread and on all.
-    {
+    if (wanted("stages")) {
       std::vector<Point2> points;
       for (int y = 0; y < 1024; ++y)
         for (int x = 0; x < 1024; ++x) points.push_back({x + 0.5, y + 0.5});
@@ -447,7 +454,7 @@ int main(int argc, char** argv) {
     }
 
     // Large input.
-    if (large > 0) {
+    if (large > 0 && wanted("large")) {
       const std::string in = (W / ("large" + std::to_string(large) + ".png")).string();
       write_png(in, tiled(base, large));
       const std::string out = (W / "large_out.exr").string();

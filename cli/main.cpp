@@ -78,8 +78,10 @@ int run_upscale(int argc, char** argv) {
   Arguments args;
   CLI::App app{"ddtscale: enlarge an image by data-dependent triangulation (DDT).\n"
                "The pixels become a heightfield, triangulated (Delaunay, then edge flips that lower a cost)\n"
-               "so that long thin triangles follow the edges; the piecewise-linear surface is rendered\n"
-               "at the new size. Subcommands: `ddtscale eval --help`, `ddtscale scene --help`.",
+               "so that long thin triangles follow the edges; the surface on the mesh is rendered at the\n"
+               "new size. Volumes: give .nrrd/.nhdr files (`ddtscale in.nrrd x.nrrd --help`). Subcommands:\n"
+               "`ddtscale eval --help` (benchmark), `ddtscale grid --help` (scattered points),\n"
+               "`ddtscale scene --help` (test scenes), `ddtscale volume-eval --help`, `ddtscale volume-field --help`.",
                "ddtscale"};
   app.add_option("input", args.input, "input image (PNG, JPEG, TIFF, EXR, ... anything OpenImageIO reads)")->required();
   app.add_option("output", args.output,

@@ -1,37 +1,89 @@
 #include "image_mesh.hpp"
 
-#include "costs.hpp"
+#include "annealing.hpp"
 #include "error.hpp"
-#include "optimizer.hpp"
+#include "lookahead.hpp"
 #include "triangulation.hpp"
 
 #include <chrono>
+#include <cstdio>
 
 namespace ddt {
 
-std::vector<float> cost_channel_values(const Image& src, const UpscaleOptions& options, int& K) {
-  std::vector<int> colour;
+DriveChannels drive_channels(const Image& src, const UpscaleOptions& options) {
+  DriveChannels d;
   for (int c = 0; c < src.channels; ++c)
-    if (c != options.alpha_channel) colour.push_back(c);
-  const std::size_t n = src.pixel_count();
-  if (options.luma_cost && colour.size() >= 3) {
-    K = 1;
-    std::vector<float> luma(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      const float* px = &src.pixels[i * src.channels];
-      luma[i] = 0.299f * px[colour[0]] + 0.587f * px[colour[1]] + 0.114f * px[colour[2]];
-    }
-    return luma;
+    if (c != options.alpha_channel) d.colour.push_back(c);
+  if (options.luma_cost && d.colour.size() >= 3) {
+    d.luma = true;
+    d.K = 1;
+    return d;
   }
-  if (colour.size() > static_cast<std::size_t>(max_cost_channels))
+  if (d.colour.size() > static_cast<std::size_t>(max_cost_channels))
     throw Error("the cost takes at most " + std::to_string(max_cost_channels) + " channels; this image has " +
-                std::to_string(colour.size()) + " (use --cost-channel luma)");
-  if (colour.empty()) colour.push_back(0);  // alpha alone: let it drive
-  K = static_cast<int>(colour.size());
-  std::vector<float> out(n * K);
+                std::to_string(d.colour.size()) + " (use --cost-channel luma)");
+  if (d.colour.empty()) d.colour.push_back(0);  // alpha alone: let it drive
+  d.K = static_cast<int>(d.colour.size());
+  d.identity = d.K == src.channels;
+  return d;
+}
+
+std::vector<float> drive_values(const float* pixels, std::size_t n, int C, const DriveChannels& d) {
+  std::vector<float> out(n * d.K);
+  const std::vector<int>& colour = d.colour;
+  if (d.luma) {
+    // Rec. 601 weights, as the evaluation's Y.
+    for (std::size_t i = 0; i < n; ++i) {
+      const float* px = pixels + i * C;
+      out[i] = 0.299f * px[colour[0]] + 0.587f * px[colour[1]] + 0.114f * px[colour[2]];
+    }
+    return out;
+  }
   for (std::size_t i = 0; i < n; ++i)
-    for (int k = 0; k < K; ++k) out[i * K + k] = src.pixels[i * src.channels + colour[k]];
+    for (int k = 0; k < d.K; ++k) out[i * d.K + k] = pixels[i * C + colour[k]];
   return out;
+}
+
+int optimizer_region_rows(int width, int height, const UpscaleOptions& options) {
+  if (width < 2 || height < 2 || options.region_rows < 0) return 0;
+  if (options.region_rows > 0) return options.region_rows;
+  const long long cells_row = 2LL * (width - 1);
+  const long long triangles = cells_row * (height - 1);
+  if (triangles <= 2 * default_region_triangles) return 0;
+  return static_cast<int>(image_region_triangles(width) / cells_row);
+}
+
+LawsonStats optimize_mesh(Mesh2& mesh, const std::vector<float>& drive, int K, const CostFunction& cost,
+                          const UpscaleOptions& options, const LawsonOptions& lawson,
+                          const std::function<void(const std::string&)>& log) {
+  if (options.optimizer == "anneal") {
+    AnnealOptions anneal = options.anneal;
+    if (log)
+      anneal.on_step = [&](int step, double temperature, long long flips, double total) {
+        char line[160];
+        std::snprintf(line, sizeof line, "anneal: step %d, T %.4g, %lld flips, cost %.9g", step, temperature,
+                      flips, total);
+        log(line);
+      };
+    const AnnealStats as = optimize_anneal(mesh, drive, K, cost, anneal, lawson);
+    LawsonStats ls = as.lawson;  // the final Lawson pass, with totals over the whole run
+    ls.flips += as.accepted;
+    ls.cost_before = as.cost_before;
+    ls.cost_after = as.cost_after;
+    return ls;
+  }
+  if (options.optimizer == "lookahead") {
+    const LookaheadStats la = optimize_lookahead(mesh, drive, K, cost, lawson);
+    LawsonStats ls = la.first_lawson;  // totals cover all passes and pairs
+    ls.flips = la.lawson_flips + 2 * la.pairs;
+    ls.cost_after = la.cost_after;
+    if (log)
+      log("lookahead: " + std::to_string(la.sweeps) + " sweeps, " + std::to_string(la.pairs) + " flip pairs, " +
+          std::to_string(la.lawson_flips) + " single flips");
+    return ls;
+  }
+  check_optimizer_name(options.optimizer);
+  return optimize_lawson(mesh, drive, K, cost, lawson);
 }
 
 std::vector<Point2> pixel_centres(int width, int height) {
@@ -44,22 +96,30 @@ std::vector<Point2> pixel_centres(int width, int height) {
 Mesh2 image_mesh(const Image& src, const UpscaleOptions& options, UpscaleStats* stats) {
   if (src.empty()) throw Error("the input image is empty");
   const CostFunction& cost = find_cost(options.cost);
+  check_optimizer_name(options.optimizer);
+  if (options.optimizer == "anneal") check_anneal_options(options.anneal);
   auto t0 = std::chrono::steady_clock::now();
   Mesh2 mesh = delaunay_triangulation(pixel_centres(src.width, src.height));
   auto t1 = std::chrono::steady_clock::now();
   LawsonStats ls;
   if (options.optimize && mesh.triangle_count() > 0) {
-    int K = 0;
-    const std::vector<float> drive = cost_channel_values(src, options, K);
+    const DriveChannels drive = drive_channels(src, options);
+    std::vector<float> own_drive;
+    if (!drive.identity) own_drive = drive_values(src.pixels.data(), src.pixel_count(), src.channels, drive);
     LawsonOptions lawson;
     lawson.relative_tolerance = options.relative_tolerance;
     lawson.max_iterations = options.max_iterations;
-    ls = optimize_lawson(mesh, drive, K, cost, lawson);
+    // The regions upscale() uses, so that the mesh is the one it renders.
+    const int region_rows = optimizer_region_rows(src.width, src.height, options);
+    lawson.region_triangles = region_rows > 0 ? region_rows * 2LL * (src.width - 1) : -1;
+    ls = optimize_mesh(mesh, drive.identity ? src.pixels : own_drive, drive.K, cost, options, lawson, options.log);
   }
   if (stats) {
     stats->triangles = mesh.triangle_count();
     stats->iterations = ls.iterations;
     stats->flips = ls.flips;
+    stats->tests = ls.tests;
+    stats->regions = ls.regions;
     stats->cost_before = ls.cost_before;
     stats->cost_after = ls.cost_after;
     stats->seconds_triangulate = std::chrono::duration<double>(t1 - t0).count();

@@ -4,7 +4,7 @@
 #include "cubic_surface.hpp"
 #include "error.hpp"
 #include "image_io.hpp"
-#include "lookahead.hpp"
+#include "image_mesh.hpp"
 #include "optimizer.hpp"
 #include "rasterizer.hpp"
 #include "triangulation.hpp"
@@ -23,49 +23,6 @@ namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-// The channels that drive flips: colour channels summed, or their
-// luminance (Rec. 601 weights, as in the evaluation's Y) when asked.
-struct DriveChannels {
-  std::vector<int> colour;
-  bool luma = false;
-  int K = 0;
-  bool identity = false;  // the drive values are the pixels themselves
-};
-
-DriveChannels drive_channels(const Image& src, const UpscaleOptions& options) {
-  DriveChannels d;
-  for (int c = 0; c < src.channels; ++c)
-    if (c != options.alpha_channel) d.colour.push_back(c);
-  if (options.luma_cost && d.colour.size() >= 3) {
-    d.luma = true;
-    d.K = 1;
-    return d;
-  }
-  if (d.colour.size() > static_cast<std::size_t>(max_cost_channels))
-    throw Error("the cost takes at most " + std::to_string(max_cost_channels) + " channels; this image has " +
-                std::to_string(d.colour.size()) + " (use --cost-channel luma)");
-  if (d.colour.empty()) d.colour.push_back(0);  // alpha alone: let it drive
-  d.K = static_cast<int>(d.colour.size());
-  d.identity = d.K == src.channels;
-  return d;
-}
-
-// Drive values of n pixels of C channels.
-std::vector<float> drive_values(const float* pixels, std::size_t n, int C, const DriveChannels& d) {
-  std::vector<float> out(n * d.K);
-  const std::vector<int>& colour = d.colour;
-  if (d.luma) {
-    for (std::size_t i = 0; i < n; ++i) {
-      const float* px = pixels + i * C;
-      out[i] = 0.299f * px[colour[0]] + 0.587f * px[colour[1]] + 0.114f * px[colour[2]];
-    }
-    return out;
-  }
-  for (std::size_t i = 0; i < n; ++i)
-    for (int k = 0; k < d.K; ++k) out[i * d.K + k] = pixels[i * C + colour[k]];
-  return out;
 }
 
 // grid_gradients in parallel: bands of rows with a halo of two rows (the
@@ -171,30 +128,7 @@ LawsonStats run_band(const Image& src, const Band& band, int out_width, int out_
       progress->begin(label + "optimize", 3LL * mesh.triangle_count() + mesh.triangle_count() / 8);
       lawson.on_tests = [progress](long long tests) { progress->set(tests); };
     }
-    if (options.optimizer == "anneal") {
-      AnnealOptions anneal = options.anneal;
-      if (options.log)
-        anneal.on_step = [&](int step, double temperature, long long flips, double total) {
-          char line[160];
-          std::snprintf(line, sizeof line, "anneal: step %d, T %.4g, %lld flips, cost %.9g", step, temperature,
-                        flips, total);
-          log(line);
-        };
-      const AnnealStats as = optimize_anneal(mesh, drive_vals, K, cost, anneal, lawson);
-      ls = as.lawson;  // the final Lawson pass; totals cover the whole run
-      ls.flips += as.accepted;
-      ls.cost_before = as.cost_before;
-      ls.cost_after = as.cost_after;
-    } else if (options.optimizer == "lookahead") {
-      const LookaheadStats la = optimize_lookahead(mesh, drive_vals, K, cost, lawson);
-      ls = la.first_lawson;  // totals cover all passes and pairs
-      ls.flips = la.lawson_flips + 2 * la.pairs;
-      ls.cost_after = la.cost_after;
-      log("lookahead: " + std::to_string(la.sweeps) + " sweeps, " + std::to_string(la.pairs) + " flip pairs, " +
-          std::to_string(la.lawson_flips) + " single flips");
-    } else {
-      ls = optimize_lawson(mesh, drive_vals, K, cost, lawson);
-    }
+    ls = optimize_mesh(mesh, drive_vals, K, cost, options, lawson, options.log ? std::function(log) : nullptr);
   }
   const double seconds_optimize = seconds_since(t0);
   local.seconds_optimize += seconds_optimize;
@@ -253,14 +187,7 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
   // Regions of the optimizer: whole rows, so that tiles (bands of rows)
   // cut the same regions as the whole image.
   const long long cells_row = 2LL * std::max(1, W - 1);
-  const long long triangles = cells_row * std::max(0, H - 1);
-  int region_rows = 0;
-  if (W >= 2 && H >= 2 && options.region_rows >= 0) {
-    if (options.region_rows > 0)
-      region_rows = options.region_rows;
-    else if (triangles > 2 * default_region_triangles)
-      region_rows = static_cast<int>(image_region_triangles(W) / cells_row);
-  }
+  const int region_rows = optimizer_region_rows(W, H, options);
 
   // Tiles: only where the whole image would not fit (or when asked), and
   // only with Lawson (annealing's random moves span the image; the
