@@ -11,13 +11,7 @@ using namespace ddt;
 
 namespace {
 
-std::vector<float> random_values(std::size_t n, int K, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> u(0.0f, 1.0f);
-  std::vector<float> v(n * K);
-  for (auto& x : v) x = u(rng);
-  return v;
-}
+using test::random_values;
 
 }  // namespace
 

@@ -1,3 +1,4 @@
+#include "test_support.hpp"
 #include "optimizer3.hpp"
 #include "tetrahedralization.hpp"
 #include "test_support3.hpp"
@@ -11,13 +12,7 @@ using namespace ddt;
 
 namespace {
 
-std::vector<float> random_values(std::size_t n, int K, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> u(0.0f, 1.0f);
-  std::vector<float> v(n * K);
-  for (auto& x : v) x = u(rng);
-  return v;
-}
+using test::random_values;
 
 // A sphere of radius r around c, box-filtered over each voxel (4^3 sub-samples).
 std::vector<float> ball_values(int n, double r) {

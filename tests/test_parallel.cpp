@@ -17,13 +17,7 @@ using namespace ddt;
 
 namespace {
 
-std::vector<float> random_values(std::size_t n, int K, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> u(0.0f, 1.0f);
-  std::vector<float> v(n * K);
-  for (auto& x : v) x = u(rng);
-  return v;
-}
+using test::random_values;
 
 // Values like an 8-bit photograph: smooth, with flat patches and steps.
 std::vector<float> image_values(int w, int h, int K, unsigned seed) {

@@ -21,6 +21,15 @@ inline std::vector<Point2> grid_points(int w, int h) {
   return p;
 }
 
+// n x K values, uniform in [0, 1).
+inline std::vector<float> random_values(std::size_t n, int K, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<float> v(n * K);
+  for (auto& x : v) x = u(rng);
+  return v;
+}
+
 inline std::vector<Point2> random_points(int n, unsigned seed, double size = 10.0) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(0.0, size);
