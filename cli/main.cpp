@@ -29,6 +29,7 @@ namespace {
 struct Arguments {
   std::string input, output;
   double scale = 0;
+  bool scale_given = false;
   int width = 0, height = 0;
   std::string cost = "sederberg";
   std::string cost_channel = "sum";
@@ -54,9 +55,9 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 // Output size from --scale / --width / --height; throws ddt::Error.
 void output_size(const Arguments& args, int in_w, int in_h, int& out_w, int& out_h) {
-  if (args.scale != 0 && (args.width != 0 || args.height != 0))
+  if (args.scale_given && (args.width != 0 || args.height != 0))
     throw ddt::Error("give either --scale or --width/--height, not both");
-  if (args.scale != 0) {
+  if (args.scale_given) {
     if (!(args.scale > 0) || !std::isfinite(args.scale)) throw ddt::Error("--scale must be a positive number");
     const double w = std::round(in_w * args.scale), h = std::round(in_h * args.scale);
     if (w > 2e9 || h > 2e9) throw ddt::Error("--scale gives an output larger than --max-pixels");
@@ -182,6 +183,7 @@ int run_upscale(int argc, char** argv) {
     }
   try {
     app.parse(argc, argv);
+    args.scale_given = app.count("--scale") > 0;
   } catch (const CLI::CallForHelp&) {
     std::cout << app.help();
     return 0;

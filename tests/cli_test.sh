@@ -87,6 +87,7 @@ printf 'not an image' >"$work/corrupt.png"
 run_fail "missing input" "$work/nope.png" "$work/o.png" --scale 2
 run_fail "corrupt input" "$work/corrupt.png" "$work/o.png" --scale 2
 run_fail "scale zero" "$work/in.png" "$work/o.png" --scale 0
+grep -q "positive" "$work/err.txt" && ok || bad "scale zero: the error does not say the scale must be positive"
 run_fail "scale negative" "$work/in.png" "$work/o.png" --scale -3
 run_fail "scale not a number" "$work/in.png" "$work/o.png" --scale abc
 run_fail "no scale" "$work/in.png" "$work/o.png"
