@@ -1,4 +1,13 @@
 #pragma once
+#include <string>
+
+namespace CLI {
+class App;
+}
+namespace ddt {
+struct AnnealOptions;
+}
+
 // Subcommands of the ddtscale binary, dispatched from main(). Each takes the
 // arguments from the subcommand's name on (argv[0] is e.g. "eval"), prints
 // errors as one line on stderr, and returns the process exit status.
@@ -27,3 +36,7 @@ int run_scene_command(int argc, char** argv);
 // --help), 1 on a runtime error, 2 on bad arguments.
 bool is_volume_command(int argc, char** argv);
 int run_volume_command(int argc, char** argv);
+
+// --optimizer, --seed and the --anneal-* schedule, shared by the image and
+// the grid commands.
+void add_optimizer_options(CLI::App& app, std::string& optimizer, ddt::AnnealOptions& anneal);

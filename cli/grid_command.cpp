@@ -121,8 +121,10 @@ int run_grid_command(int argc, char** argv) {
       "linear surface sampled on a regular north-up grid. Pixels outside the points' convex hull are no-data."};
   app.name("ddtscale grid");
   std::string input, output, size_text, bounds_text, columns_text, input_nodata_text, nodata_text;
-  std::string cost = "sederberg", cost_channel = "sum";
+  std::string cost = ddt::GridOptions{}.cost, cost_channel = "sum";
   bool no_optimize = false, verbose = false, quiet = false;
+  std::string optimizer = "lawson";
+  ddt::AnnealOptions anneal;
   double tolerance = 1e-9;
   long long max_pixels = 1LL << 28;
 
@@ -158,6 +160,7 @@ int run_grid_command(int argc, char** argv) {
   app.add_option("--max-pixels", max_pixels, "refuse grids with more pixels than this")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  add_optimizer_options(app, optimizer, anneal);
   app.add_flag("-v,--verbose", verbose, "report points, flips, cost and the time of each stage");
   app.add_flag("-q,--quiet", quiet, "print nothing but errors");
   app.footer(
@@ -211,6 +214,8 @@ int run_grid_command(int argc, char** argv) {
     options.cost_channel = parse_cost_channel(cost_channel, table);
     options.optimize = !no_optimize;
     options.relative_tolerance = tolerance;
+    options.optimizer = optimizer;
+    options.anneal = anneal;
     if (verbose) options.log = log;
     {
       std::string line = "read: " + input + ", " + std::to_string(table.lines_read) + " lines, " +

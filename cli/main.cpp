@@ -120,32 +120,7 @@ int run_upscale(int argc, char** argv) {
                  "else its central 128x128)");
   bool list_costs = false;
   app.add_flag("--list-costs", list_costs, "print the cost names, one a line, and exit");
-  app.add_option("--optimizer", args.optimizer,
-                 "lawson (generalized Lawson: only cost-lowering flips), anneal (simulated annealing over the "
-                 "same flips, then a Lawson pass) or lookahead (Lawson, plus pairs of flips that lower the cost "
-                 "only together)")
-      ->check(CLI::IsMember(ddt::optimizer_names()))
-      ->capture_default_str();
-  app.add_option("--seed", args.anneal.seed, "anneal: seed of the random moves (same seed, same result)")
-      ->capture_default_str();
-  app.add_option("--anneal-t0", args.anneal.initial_temperature,
-                 "anneal: initial temperature in cost units; 0 = automatic (see --anneal-accept)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  app.add_option("--anneal-accept", args.anneal.initial_acceptance,
-                 "anneal: automatic T0 accepts the mean uphill flip with this probability")
-      ->check(CLI::Range(0.0, 1.0))
-      ->capture_default_str();
-  app.add_option("--anneal-cooling", args.anneal.cooling, "anneal: T is multiplied by this after each step")
-      ->check(CLI::Range(0.0, 1.0))
-      ->capture_default_str();
-  app.add_option("--anneal-steps", args.anneal.temperature_steps, "anneal: number of temperature steps")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
-  app.add_option("--anneal-moves", args.anneal.moves_per_edge,
-                 "anneal: random flip proposals per interior edge at each temperature")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
+  add_optimizer_options(app, args.optimizer, args.anneal);
   app.add_flag("-v,--verbose", args.verbose, "report iterations, flips, cost and the time of each stage");
   app.add_flag("-q,--quiet", args.quiet, "print nothing but errors (and no progress bar)");
   app.add_option("--threads", args.threads, "threads to use (default: all cores)")->check(CLI::NonNegativeNumber);

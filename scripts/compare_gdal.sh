@@ -14,9 +14,10 @@
 #   work_dir   keeps the points and grids (default: a temporary directory)
 # Environment: SIZES (default "1000 10000 100000"), GRID (default 512),
 #   RUNS (default 3), SEED (default 1), EXTENT (default 1000),
-#   COSTS (default "sederberg variance"), FIGURE (a .png path: also draw
-#   docs/scattered-fault-ridge.png, crops of the truth, gdal_grid, DDT
-#   sederberg and DDT variance at 1000 points, fault above, ridge below).
+#   COSTS (default "jnd-edge sederberg variance"; jnd-edge is grid's default),
+#   FIGURE (a .png path: also draw docs/scattered-fault-ridge.png, crops of
+#   the truth, gdal_grid, DDT jnd-edge and DDT variance at 1000 points, fault
+#   above, ridge below).
 # Installs Debian's gdal-bin when gdal_grid is missing (apt-get, as root).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -42,7 +43,7 @@ grid=${GRID:-512}
 runs=${RUNS:-3}
 seed=${SEED:-1}
 extent=${EXTENT:-1000}
-costs=${COSTS:-"sederberg variance"}
+costs=${COSTS:-"jnd-edge sederberg variance"}
 
 tool="$work/grid_fields"
 g++ -O2 -std=c++20 bench/grid_fields.cpp -o "$tool" -lOpenImageIO -lOpenImageIO_Util
@@ -126,11 +127,11 @@ if [ -n "${FIGURE:-}" ]; then
     "$tool" truth "$field" "$grid" "$grid" "$work/${field}_truth.exr"
     gdal_grid -q -a linear -zfield z -txe 0 "$extent" -tye 0 "$extent" -outsize "$grid" "$grid" -ot Float32 \
       "$work/${field}_fig.vrt" "$work/${field}_gdal.tif"
-    for cost in sederberg variance; do
+    for cost in jnd-edge variance; do
       "$bin" grid "$pts" "$work/${field}_$cost.exr" --size "${grid}x${grid}" --bounds "0,0,$extent,$extent" \
         --cost "$cost" -q
     done
-    for m in truth.exr gdal.tif sederberg.exr variance.exr; do
+    for m in truth.exr gdal.tif jnd-edge.exr variance.exr; do
       oiiotool "$work/${field}_$m" --ch 0 --mulc "$gain" --cut "$crop" --resize:filter=box 384x384 \
         --colormap viridis -d uint8 -o "$work/${field}_${m%.*}.png"
       panels+=("$work/${field}_${m%.*}.png")

@@ -3,6 +3,7 @@
 #include "costs.hpp"
 #include "error.hpp"
 #include "optimizer.hpp"
+#include "optimizer_choice.hpp"
 #include "rasterizer.hpp"
 #include "triangulation.hpp"
 
@@ -118,6 +119,7 @@ Image grid_points(const std::vector<Point2>& points, const std::vector<float>& v
                 " points of " + std::to_string(C) + " channels");
   if (options.width < 1 || options.height < 1) throw Error("the grid size must be at least 1x1");
   const CostFunction& cost = find_cost(options.cost);
+  check_optimizer(options.optimizer, options.anneal);
   GridStats local;
   auto log = [&](const std::string& line) {
     if (options.log) options.log(line);
@@ -159,7 +161,7 @@ Image grid_points(const std::vector<Point2>& points, const std::vector<float>& v
         std::snprintf(line, sizeof line, "optimize: iteration %d, %lld flips, cost %.9g", iteration, flips, total);
         log(line);
       };
-    const LawsonStats ls = optimize_lawson(mesh, drive, K, cost, lawson);
+    const LawsonStats ls = run_optimizer(mesh, drive, K, cost, options.optimizer, options.anneal, lawson, options.log);
     local.iterations = ls.iterations;
     local.flips = ls.flips;
     local.cost_before = ls.cost_before;

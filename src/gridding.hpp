@@ -28,6 +28,7 @@
 // Errors: throws ddt::Error (bad size or bounds, fewer than three points
 // not on one line, unknown cost, too many channels for the cost).
 
+#include "annealing.hpp"
 #include "image.hpp"
 #include "mesh.hpp"
 
@@ -46,11 +47,18 @@ struct GridBounds {
 struct GridOptions {
   int width = 0, height = 0;            // grid size in pixels (>= 1 each)
   std::optional<GridBounds> bounds;     // default: the points' bounding box
-  std::string cost = "sederberg";       // a name from costs.hpp
+  // A name from costs.hpp. The default differs from the image upscaler's:
+  // on scattered samples the classic edge sum of the jumps in normal
+  // derivative (Dyn, Levin, Rippa 1990) beat plain Delaunay on steps, ridges
+  // and smooth fields alike, where sederberg and variance lose on smooth
+  // ones (docs/scattered.md, "Which cost").
+  std::string cost = "jnd-edge";
   // What drives the flips: -1 the sum of all channels' costs, -2 the
   // luminance of channels 0, 1, 2 (Rec. 601), k >= 0 channel k alone.
   int cost_channel = -1;
   bool optimize = true;                 // false: render the Delaunay mesh
+  std::string optimizer = "lawson";     // "lawson", "anneal" or "lookahead" (optimizer_choice.hpp)
+  AnnealOptions anneal;                 // the schedule and seed of "anneal"
   double relative_tolerance = 1e-9;     // a flip must lower the local cost by more than this fraction
   int max_iterations = 10000;
   float nodata = std::numeric_limits<float>::quiet_NaN();

@@ -1,12 +1,10 @@
 #include "image_mesh.hpp"
 
-#include "annealing.hpp"
 #include "error.hpp"
-#include "lookahead.hpp"
+#include "optimizer_choice.hpp"
 #include "triangulation.hpp"
 
 #include <chrono>
-#include <cstdio>
 
 namespace ddt {
 
@@ -53,39 +51,6 @@ int optimizer_region_rows(int width, int height, const UpscaleOptions& options) 
   return static_cast<int>(image_region_triangles(width) / cells_row);
 }
 
-LawsonStats optimize_mesh(Mesh2& mesh, const std::vector<float>& drive, int K, const CostFunction& cost,
-                          const UpscaleOptions& options, const LawsonOptions& lawson,
-                          const std::function<void(const std::string&)>& log) {
-  if (options.optimizer == "anneal") {
-    AnnealOptions anneal = options.anneal;
-    if (log)
-      anneal.on_step = [&](int step, double temperature, long long flips, double total) {
-        char line[160];
-        std::snprintf(line, sizeof line, "anneal: step %d, T %.4g, %lld flips, cost %.9g", step, temperature,
-                      flips, total);
-        log(line);
-      };
-    const AnnealStats as = optimize_anneal(mesh, drive, K, cost, anneal, lawson);
-    LawsonStats ls = as.lawson;  // the final Lawson pass, with totals over the whole run
-    ls.flips += as.accepted;
-    ls.cost_before = as.cost_before;
-    ls.cost_after = as.cost_after;
-    return ls;
-  }
-  if (options.optimizer == "lookahead") {
-    const LookaheadStats la = optimize_lookahead(mesh, drive, K, cost, lawson);
-    LawsonStats ls = la.first_lawson;  // totals cover all passes and pairs
-    ls.flips = la.lawson_flips + 2 * la.pairs;
-    ls.cost_after = la.cost_after;
-    if (log)
-      log("lookahead: " + std::to_string(la.sweeps) + " sweeps, " + std::to_string(la.pairs) + " flip pairs, " +
-          std::to_string(la.lawson_flips) + " single flips");
-    return ls;
-  }
-  check_optimizer_name(options.optimizer);
-  return optimize_lawson(mesh, drive, K, cost, lawson);
-}
-
 std::vector<Point2> pixel_centres(int width, int height) {
   std::vector<Point2> points(static_cast<std::size_t>(width) * height);
   for (int y = 0; y < height; ++y)
@@ -96,8 +61,7 @@ std::vector<Point2> pixel_centres(int width, int height) {
 Mesh2 image_mesh(const Image& src, const UpscaleOptions& options, UpscaleStats* stats) {
   if (src.empty()) throw Error("the input image is empty");
   const CostFunction& cost = find_cost(options.cost);
-  check_optimizer_name(options.optimizer);
-  if (options.optimizer == "anneal") check_anneal_options(options.anneal);
+  check_optimizer(options.optimizer, options.anneal);
   auto t0 = std::chrono::steady_clock::now();
   Mesh2 mesh = delaunay_triangulation(pixel_centres(src.width, src.height));
   auto t1 = std::chrono::steady_clock::now();
@@ -112,7 +76,8 @@ Mesh2 image_mesh(const Image& src, const UpscaleOptions& options, UpscaleStats* 
     // The regions upscale() uses, so that the mesh is the one it renders.
     const int region_rows = optimizer_region_rows(src.width, src.height, options);
     lawson.region_triangles = region_rows > 0 ? region_rows * 2LL * (src.width - 1) : -1;
-    ls = optimize_mesh(mesh, drive.identity ? src.pixels : own_drive, drive.K, cost, options, lawson, options.log);
+    ls = run_optimizer(mesh, drive.identity ? src.pixels : own_drive, drive.K, cost, options.optimizer, options.anneal,
+                       lawson, options.log);
   }
   if (stats) {
     stats->triangles = mesh.triangle_count();

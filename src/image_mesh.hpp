@@ -6,8 +6,8 @@
 //
 // Also the pieces upscale() shares with it: the channels that drive the
 // flips (the colour channels, all but options.alpha_channel, or their
-// Rec. 601 luminance when options.luma_cost), the optimizer's region rows,
-// and the dispatch to the optimizer options.optimizer names.
+// Rec. 601 luminance when options.luma_cost) and the optimizer's region
+// rows.
 
 #include "costs.hpp"
 #include "image.hpp"
@@ -15,8 +15,6 @@
 #include "optimizer.hpp"
 #include "upscale.hpp"
 
-#include <functional>
-#include <string>
 #include <vector>
 
 namespace ddt {
@@ -38,13 +36,6 @@ std::vector<float> drive_values(const float* pixels, std::size_t n, int C, const
 // Rows of input pixels per region of the parallel optimizer (0: a single
 // region), as options.region_rows asks for an image of width x height.
 int optimizer_region_rows(int width, int height, const UpscaleOptions& options);
-
-// Runs options.optimizer ("lawson", "anneal" or "lookahead") on the mesh
-// with the Lawson settings `lawson`; verbose lines go to `log` (may be
-// empty). The statistics cover the whole run.
-LawsonStats optimize_mesh(Mesh2& mesh, const std::vector<float>& drive, int K, const CostFunction& cost,
-                          const UpscaleOptions& options, const LawsonOptions& lawson,
-                          const std::function<void(const std::string&)>& log);
 
 // Pixel centres of a width x height grid, row-major.
 std::vector<Point2> pixel_centres(int width, int height);

@@ -5,6 +5,7 @@
 #include "error.hpp"
 #include "image_io.hpp"
 #include "image_mesh.hpp"
+#include "optimizer_choice.hpp"
 #include "optimizer.hpp"
 #include "rasterizer.hpp"
 #include "triangulation.hpp"
@@ -128,7 +129,9 @@ LawsonStats run_band(const Image& src, const Band& band, int out_width, int out_
       progress->begin(label + "optimize", 3LL * mesh.triangle_count() + mesh.triangle_count() / 8);
       lawson.on_tests = [progress](long long tests) { progress->set(tests); };
     }
-    ls = optimize_mesh(mesh, drive_vals, K, cost, options, lawson, options.log ? std::function(log) : nullptr);
+    std::function<void(const std::string&)> band_log;
+    if (options.log) band_log = log;
+    ls = run_optimizer(mesh, drive_vals, K, cost, options.optimizer, options.anneal, lawson, band_log);
   }
   const double seconds_optimize = seconds_since(t0);
   local.seconds_optimize += seconds_optimize;
@@ -178,8 +181,7 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
   const CostFunction& cost = find_cost(options.cost);
   check_render_name(options.render);
   if (options.render == "cubic") slope_limiter_by_name(options.slopes);
-  check_optimizer_name(options.optimizer);
-  if (options.optimizer == "anneal") check_anneal_options(options.anneal);
+  check_optimizer(options.optimizer, options.anneal);
   const DriveChannels drive = drive_channels(src, options);
   UpscaleStats local;
   const int W = src.width, H = src.height, C = src.channels;

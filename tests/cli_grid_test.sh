@@ -78,6 +78,8 @@ grep -q "Pixel (2, 1): 5.000000000 1.000000000" "$work/dump.txt" && ok || bad "X
 run_ok "png with alpha" "$work/tri.csv" "$work/tri.png" --size 16x16 --columns x,y,z
 grep -q "clamped" "$work/err.txt" && ok || bad "PNG clamping not noted"
 oiiotool --info "$work/tri.png" | grep -q "2 channel, uint16 png" && ok || bad "PNG: $(oiiotool --info "$work/tri.png")"
+run_ok "lookahead" "$work/tri.csv" "$work/la.exr" --size 16x16 --optimizer lookahead
+run_ok "anneal" "$work/tri.csv" "$work/an.exr" --size 16x16 --optimizer anneal --seed 4
 run_ok "nodata value" "$work/tri.csv" "$work/nd.tif" --size 16x16 --nodata=-9999 --no-optimize
 oiiotool --dumpdata "$work/nd.tif" >"$work/dump.txt"
 grep -q "1 channel, float tiff" "$work/dump.txt" && ok || bad "--nodata still adds alpha"
@@ -90,6 +92,7 @@ for opt in --size --bounds --columns --input-nodata --nodata --cost --cost-chann
   --max-pixels --verbose --quiet; do
   grep -q -- "$opt" "$work/out.txt" && ok || bad "--help does not mention $opt"
 done
+grep -q -- "--cost TEXT=jnd-edge" "$work/out.txt" && ok || bad "--help does not give jnd-edge as the default cost"
 
 # Bad input.
 printf 'x,y,z\n0,0,1\n1,zero,2\n0,1,3\n' >"$work/malformed.csv"
@@ -108,6 +111,8 @@ run_fail "too many pixels" "max-pixels" "$work/tri.csv" "$work/o.exr" --size 100
 run_fail "jpeg output" ".exr, .tif" "$work/tri.csv" "$work/o.jpg" --size 8x8
 run_fail "missing directory" "does not exist" "$work/tri.csv" "$work/nodir/o.exr" --size 8x8
 run_fail "unknown column" "no column named 'h'" "$work/tri.csv" "$work/o.exr" --size 8x8 --columns x,y,h
+run_fail "unknown optimizer" "--optimizer" "$work/tri.csv" "$work/o.exr" --size 8x8 --optimizer genetic
+run_fail "cooling of 1" "strictly between 0 and 1" "$work/tri.csv" "$work/o.exr" --size 8x8 --optimizer anneal --anneal-cooling 1
 run_fail "cost channel" "--cost-channel 5" "$work/tri.csv" "$work/o.exr" --size 8x8 --cost-channel 5
 printf 'x,y,a,b\n0,0,1,2\n1,0,1,2\n0,1,1,2\n' >"$work/two.csv"
 run_fail "png with two channels" "PNG holds 1 or 3" "$work/two.csv" "$work/o.png" --size 8x8

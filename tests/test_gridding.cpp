@@ -5,9 +5,11 @@
 #include <OpenImageIO/imageio.h>
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <functional>
+#include <string>
 
 using namespace ddt;
 
@@ -113,6 +115,70 @@ TEST_CASE("grid_points: on a step field the step-aligned DDT mesh beats plain De
   CHECK(st.flips > 0);
   CHECK(st.cost_after < st.cost_before);
   CHECK(e_ddt < 0.8 * e_delaunay);
+}
+
+TEST_CASE("grid_points: the default cost beats plain Delaunay on a step and a ridge, not worse on a smooth field") {
+  // docs/scattered.md, "Which cost": one default for all inputs. The fields
+  // of bench/grid_fields.cpp (fault, tent ridge, Franke's function), here
+  // on Halton points of the unit square.
+  auto fault = [](double x, double y) { return 0.3 * x + 0.2 * y + (y > 0.3 + 0.6 * x ? 1.0 : 0.0); };
+  auto ridge = [](double x, double y) { return std::max(0.0, 1.0 - std::abs(0.8 * x + 0.6 * y - 0.7) / 0.2); };
+  auto franke = [](double x, double y) {
+    const double a = 9 * x, b = 9 * y;
+    return 0.75 * std::exp(-((a - 2) * (a - 2) + (b - 2) * (b - 2)) / 4) +
+           0.75 * std::exp(-(a + 1) * (a + 1) / 49 - (b + 1) / 10) +
+           0.5 * std::exp(-((a - 7) * (a - 7) + (b - 3) * (b - 3)) / 4) -
+           0.2 * std::exp(-(a - 4) * (a - 4) - (b - 7) * (b - 7));
+  };
+  CHECK(GridOptions{}.cost == "jnd-edge");
+  const std::vector<Point2> p = halton_square(1000);
+  const GridBounds b{0, 0, 1, 1};
+  struct Case {
+    const char* name;
+    std::function<double(double, double)> f;
+    double at_most;  // RMSE of DDT / RMSE of Delaunay
+  };
+  for (const Case& c : {Case{"fault", fault, 0.97}, Case{"ridge", ridge, 0.97}, Case{"smooth", franke, 1.0}}) {
+    const std::vector<float> v = sample(p, c.f);
+    GridOptions o;
+    o.width = o.height = 128;
+    GridStats st;
+    const Image ddt_img = grid_points(p, v, 1, o, &st);
+    o.optimize = false;
+    const Image delaunay_img = grid_points(p, v, 1, o);
+    const double e_ddt = rmse(ddt_img, b, c.f), e_delaunay = rmse(delaunay_img, b, c.f);
+    MESSAGE(std::string(c.name) << " RMSE: DDT " << e_ddt << ", Delaunay " << e_delaunay << ", " << st.flips
+                                << " flips");
+    CHECK(st.flips > 0);
+    CHECK(e_ddt <= c.at_most * e_delaunay);
+  }
+}
+
+TEST_CASE("grid_points: every optimizer of the image path, reproducible, a bad one refused") {
+  auto step = [](double x, double y) { return 0.2 * x + (y > 0.3 + 0.58 * x ? 1.0 : 0.0); };
+  const std::vector<Point2> p = halton_square(300);
+  const std::vector<float> v = sample(p, step);
+  GridOptions o;
+  o.width = o.height = 32;
+  o.cost = "variance";
+  GridStats lawson, lookahead, anneal, anneal_again;
+  const Image a = grid_points(p, v, 1, o, &lawson);
+  o.optimizer = "lookahead";
+  grid_points(p, v, 1, o, &lookahead);
+  CHECK(lookahead.cost_after <= lawson.cost_after);  // look-ahead starts from Lawson's optimum
+  o.optimizer = "anneal";
+  o.anneal.seed = 3;
+  const Image b = grid_points(p, v, 1, o, &anneal);
+  const Image c = grid_points(p, v, 1, o, &anneal_again);
+  CHECK(anneal.flips > lawson.flips);
+  CHECK(anneal.cost_after == anneal_again.cost_after);
+  CHECK(std::equal(b.pixels.begin(), b.pixels.end(), c.pixels.begin(), c.pixels.end(),
+                   [](float x, float y) { return x == y || (std::isnan(x) && std::isnan(y)); }));
+  o.optimizer = "genetic";
+  CHECK_THROWS_AS(grid_points(p, v, 1, o), Error);
+  o.optimizer = "anneal";
+  o.anneal.cooling = 1.0;
+  CHECK_THROWS_AS(grid_points(p, v, 1, o), Error);
 }
 
 TEST_CASE("grid_points: samples on the hull at pixel centres are kept (an XYZ grid at its own resolution)") {

@@ -1,0 +1,48 @@
+#include "commands.hpp"
+
+#include "annealing.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+
+void add_optimizer_options(CLI::App& app, std::string& optimizer, ddt::AnnealOptions& anneal) {
+  app.add_option("--optimizer", optimizer,
+                 "lawson (generalized Lawson: only cost-lowering flips), anneal (simulated annealing over the "
+                 "same flips, then a Lawson pass) or lookahead (Lawson, plus pairs of flips that lower the cost "
+                 "only together)")
+      ->check(CLI::IsMember(ddt::optimizer_names()))
+      ->capture_default_str();
+  app.add_option("--seed", anneal.seed, "anneal: seed of the random moves (same seed, same result)")
+      ->capture_default_str();
+  app.add_option("--anneal-t0", anneal.initial_temperature,
+                 "anneal: initial temperature in cost units; 0 = automatic (see --anneal-accept)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--anneal-accept", anneal.initial_acceptance,
+                 "anneal: automatic T0 accepts the mean uphill flip with this probability")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  // Strictly inside (0, 1): T must fall, and never to 0.
+  const CLI::Validator open_unit_interval(
+      [](std::string& text) -> std::string {
+        double value = 0;
+        try {
+          value = std::stod(text);
+        } catch (const std::exception&) {
+          return "'" + text + "' is not a number";
+        }
+        return value > 0 && value < 1 ? std::string() : "must lie strictly between 0 and 1";
+      },
+      "FLOAT in (0, 1)");
+  app.add_option("--anneal-cooling", anneal.cooling, "anneal: T is multiplied by this after each step")
+      ->check(open_unit_interval)
+      ->capture_default_str();
+  app.add_option("--anneal-steps", anneal.temperature_steps, "anneal: number of temperature steps")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--anneal-moves", anneal.moves_per_edge,
+                 "anneal: random flip proposals per interior edge at each temperature")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+}
