@@ -69,8 +69,9 @@ struct Scene {
   Point2 transform(const Point2& p) const {
     return {(p.x - grid.origin_x) * grid.scale_x - 0.5, (p.y - grid.origin_y) * grid.scale_y - 0.5};
   }
-  Point2 pos(index_t v) const { return v < V && !mesh_pos.empty() ? mesh_pos[v] : transform(input_point(v)); }
-  std::vector<Point2> mesh_pos;  // transform() of the mesh's points, filled by render_mesh_into
+  // Computed where needed: as cheap as loading a stored copy, and no
+  // memory to allocate (fresh pages cost more than the arithmetic).
+  Point2 pos(index_t v) const { return transform(input_point(v)); }
   index_t source(index_t v) const { return v < V ? v : rim_source[v - V]; }
   const float* value(index_t v) const { return &values[static_cast<std::size_t>(source(v)) * C]; }
   bool exact(index_t v) const { return v < V ? mesh_exact : rim_exact[v - V] != 0; }
@@ -92,7 +93,8 @@ inline int ceil_int(double v) {
 inline double clamp_pixels(double v) { return std::clamp(v, -1e9, 1e9); }
 
 bool exact_coordinate(double c) {
-  return std::abs(c) < 32768.0 && c * 1024.0 == std::floor(c * 1024.0);
+  // |c * 1024| < 2^25: the conversion is exact when c * 1024 is an integer.
+  return std::abs(c) < 32768.0 && c * 1024.0 == static_cast<double>(static_cast<long long>(c * 1024.0));
 }
 
 // Adds the slabs and corner fans that extend the hull's values outward.
@@ -217,6 +219,9 @@ std::array<double, 10> scene_patch(const Scene& scene, index_t t, const index_t 
                      scene.values[static_cast<std::size_t>(i[2]) * C + c], g0, g1, g2);
 }
 
+// Two doubles, one SSE2 register: element-wise IEEE operations.
+typedef double v2d __attribute__((vector_size(16)));
+
 // One directed edge u->v of a triangle: inside is its left (side > 0).
 struct Edge {
   Point2 u, v;
@@ -254,11 +259,19 @@ struct Shader {
   // edges, whatever the gradients say).
   double b[cubic ? max_channels : 1][10], lo[cubic ? max_channels : 1], hi[cubic ? max_channels : 1];
 
-  Shader(const Scene& scene, index_t t, const index_t id[3], const Point2& q0, const Point2& p1, const Point2& p2,
-         double area2)
-      : C(CT > 0 ? CT : scene.C), p0(q0), inv_area2(1.0 / area2) {
+  // Set up when the triangle turns out to own a pixel (many own none at
+  // small scales).
+  void init(const Scene& scene, index_t t, const index_t id[3], const Point2& q0, const Point2& p1, const Point2& p2,
+            double area2) {
+    C = CT > 0 ? CT : scene.C, p0 = q0, inv_area2 = 1.0 / area2;
     const float *z0 = scene.value(id[0]), *z1 = scene.value(id[1]), *z2 = scene.value(id[2]);
     const double ux = p1.x - p0.x, uy = p1.y - p0.y, vx = p2.x - p0.x, vy = p2.y - p0.y;
+    if constexpr (cubic) {
+      if (t < scene.T) {
+        mesh_patches(scene, id);
+        return;
+      }
+    }
     for (int c = 0; c < C; ++c) {
       const double dv1 = double(z1[c]) - z0[c], dv2 = double(z2[c]) - z0[c];
       if constexpr (!cubic) {
@@ -270,6 +283,48 @@ struct Shader {
         for (int q = 0; q < 10; ++q) b[c][q] = patch[q] * (q < 3 ? 1.0 : q < 9 ? 3.0 : 6.0);
         lo[c] = std::min({double(z0[c]), double(z1[c]), double(z2[c])});
         hi[c] = std::max({double(z0[c]), double(z1[c]), double(z2[c])});
+      }
+    }
+  }
+  // Cubic, a mesh triangle: cubic_patch() of every channel, two channels
+  // at a time (lane by lane the same operations in the same order, so the
+  // same bits), pre-scaled and with the clamp range, as above.
+  void mesh_patches(const Scene& scene, const index_t id[3]) {
+    const Point2 &P0 = scene.mesh.points[id[0]], &P1 = scene.mesh.points[id[1]], &P2 = scene.mesh.points[id[2]];
+    const float* Z[3] = {&scene.values[static_cast<std::size_t>(id[0]) * C], &scene.values[static_cast<std::size_t>(id[1]) * C],
+                         &scene.values[static_cast<std::size_t>(id[2]) * C]};
+    const float* G[3];
+    for (int i = 0; i < 3; ++i) G[i] = &(*scene.gradients)[static_cast<std::size_t>(id[i]) * C * 2];
+    const v2d three = {3.0, 3.0}, six = {6.0, 6.0}, half = {0.5, 0.5};
+    // along(g, from, to) = (g.x (to.x - from.x) + g.y (to.y - from.y)) / 3
+    const v2d d01x = v2d{P1.x - P0.x, P1.x - P0.x}, d01y = v2d{P1.y - P0.y, P1.y - P0.y};
+    const v2d d10x = v2d{P0.x - P1.x, P0.x - P1.x}, d10y = v2d{P0.y - P1.y, P0.y - P1.y};
+    const v2d d12x = v2d{P2.x - P1.x, P2.x - P1.x}, d12y = v2d{P2.y - P1.y, P2.y - P1.y};
+    const v2d d21x = v2d{P1.x - P2.x, P1.x - P2.x}, d21y = v2d{P1.y - P2.y, P1.y - P2.y};
+    const v2d d20x = v2d{P0.x - P2.x, P0.x - P2.x}, d20y = v2d{P0.y - P2.y, P0.y - P2.y};
+    const v2d d02x = v2d{P2.x - P0.x, P2.x - P0.x}, d02y = v2d{P2.y - P0.y, P2.y - P0.y};
+    for (int c = 0; c < C; c += 2) {
+      const int c1 = c + 1 < C ? c + 1 : c;  // the last lane repeats an odd channel
+      auto pair = [&](const float* a, int stride) { return v2d{double(a[c * stride]), double(a[c1 * stride])}; };
+      const v2d z0 = pair(Z[0], 1), z1 = pair(Z[1], 1), z2 = pair(Z[2], 1);
+      const v2d g0x = pair(G[0], 2), g0y = pair(G[0] + 1, 2), g1x = pair(G[1], 2), g1y = pair(G[1] + 1, 2),
+                g2x = pair(G[2], 2), g2y = pair(G[2] + 1, 2);
+      const v2d b3 = z0 + (g0x * d01x + g0y * d01y) / three;  // 210
+      const v2d b4 = z1 + (g1x * d10x + g1y * d10y) / three;  // 120
+      const v2d b5 = z1 + (g1x * d12x + g1y * d12y) / three;  // 021
+      const v2d b6 = z2 + (g2x * d21x + g2y * d21y) / three;  // 012
+      const v2d b7 = z2 + (g2x * d20x + g2y * d20y) / three;  // 102
+      const v2d b8 = z0 + (g0x * d02x + g0y * d02y) / three;  // 201
+      const v2d edge_mean = (b3 + b4 + b5 + b6 + b7 + b8) / six;
+      const v2d vertex_mean = (z0 + z1 + z2) / three;
+      const v2d b9 = edge_mean + half * (edge_mean - vertex_mean);
+      const v2d q[10] = {z0, z1, z2, b3 * three, b4 * three, b5 * three, b6 * three, b7 * three, b8 * three, b9 * six};
+      // std::min({z0, z1, z2}) and std::max: the first of equal values (signed zeros)
+      const v2d mn0 = z1 < z0 ? z1 : z0, mx0 = z0 < z1 ? z1 : z0;
+      const v2d mn = z2 < mn0 ? z2 : mn0, mx = mx0 < z2 ? z2 : mx0;
+      for (int lane = 0; lane < (c1 > c ? 2 : 1); ++lane) {
+        for (int k = 0; k < 10; ++k) b[c + lane][k] = q[k][lane];
+        lo[c + lane] = mn[lane], hi[c + lane] = mx[lane];
       }
     }
   }
@@ -295,6 +350,24 @@ struct Shader {
       px[c] = static_cast<float>(std::clamp(v, lo[c], hi[c]));
     }
   }
+  // Cubic: two neighbouring pixels at once (px and px + C), lane by lane
+  // the same operations in the same order as pixel(), so the same bits.
+  void pixel_pair(v2d l0, v2d l1, v2d l2, float* px) const {
+    const v2d l00 = l0 * l0, l11 = l1 * l1, l22 = l2 * l2;
+    const v2d m[10] = {l00 * l0, l11 * l1, l22 * l2, l00 * l1, l0 * l11, l11 * l2, l1 * l22, l0 * l22, l00 * l2,
+                       l0 * l1 * l2};
+    for (int c = 0; c < C; ++c) {
+      const double* bc = b[c];
+      const v2d v = ((bc[0] * m[0] + bc[1] * m[1]) + (bc[2] * m[2] + bc[3] * m[3])) +
+                    ((bc[4] * m[4] + bc[5] * m[5]) + (bc[6] * m[6] + bc[7] * m[7])) + (bc[8] * m[8] + bc[9] * m[9]);
+      // std::clamp(v, lo, hi): v < lo ? lo : hi < v ? hi : v
+      const v2d vlo = {lo[c], lo[c]}, vhi = {hi[c], hi[c]};
+      const v2d r1 = v < vlo ? vlo : v;
+      const v2d r = vhi < r1 ? vhi : r1;
+      px[c] = static_cast<float>(r[0]);
+      px[C + c] = static_cast<float>(r[1]);
+    }
+  }
 };
 
 inline void count_hits(unsigned char* h, int xs, int xe) {
@@ -309,21 +382,26 @@ void draw_triangle(const Scene& scene, index_t t, int row_begin, int row_end, in
   index_t id[3];
   scene.corners(t, id);
   const Point2 p0 = scene.pos(id[0]), p1 = scene.pos(id[1]), p2 = scene.pos(id[2]);
-  const bool exact = t < scene.T ? scene.mesh_exact : scene.exact(id[0]) && scene.exact(id[1]) && scene.exact(id[2]);
-  const double area2 = (p1.x - p0.x) * (p2.y - p0.y) - (p1.y - p0.y) * (p2.x - p0.x);
-  // Collapsed by the output transform: nothing to own.
-  if (exact ? !(area2 > 0) : orientation(p0, p1, p2) <= 0) return;
   const double min_y = std::min({p0.y, p1.y, p2.y}), max_y = std::max({p0.y, p1.y, p2.y});
   const int y_lo = std::max(row_begin, ceil_int(clamp_pixels(min_y)));
   const int y_hi = std::min(row_end - 1, floor_int(clamp_pixels(max_y)));
   if (y_lo > y_hi) return;
+  const bool exact = t < scene.T ? scene.mesh_exact : scene.exact(id[0]) && scene.exact(id[1]) && scene.exact(id[2]);
+  const double area2 = (p1.x - p0.x) * (p2.y - p0.y) - (p1.y - p0.y) * (p2.x - p0.x);
+  // Collapsed by the output transform: nothing to own.
+  if (exact ? !(area2 > 0) : orientation(p0, p1, p2) <= 0) return;
   const int W = out.width;
   const double min_x = std::min({p0.x, p1.x, p2.x}), max_x = std::max({p0.x, p1.x, p2.x});
   const int x_min = std::max(0, ceil_int(clamp_pixels(min_x)));
   const int x_max = std::min(W - 1, floor_int(clamp_pixels(max_x)));
   if (x_min > x_max) return;
-  const Shader<CT, cubic> shader(scene, t, id, p0, p1, p2, area2);
-  const int C = shader.C;
+  Shader<CT, cubic> shader;
+  bool shader_ready = false;
+  auto ready = [&]() -> const Shader<CT, cubic>& {
+    if (!shader_ready) shader.init(scene, t, id, p0, p1, p2, area2), shader_ready = true;
+    return shader;
+  };
+  const int C = CT > 0 ? CT : scene.C;
   const Point2* P[3] = {&p0, &p1, &p2};
 
   if (exact) {
@@ -355,11 +433,27 @@ void draw_triangle(const Scene& scene, index_t t, int row_begin, int row_end, in
       if (x > x_max) continue;
       const int xs = x;
       float* px = &out.pixels[out.index(xs, y - row0)];
+      ready();
       if constexpr (cubic) {
-        for (; x <= x_max && inside(e); ++x, px += C) {
-          shader.pixel(e[1] * shader.inv_area2, e[2] * shader.inv_area2, e[0] * shader.inv_area2, px);
+        // The span first, then its pixels in pairs; e at pixel x is
+        // exactly e at xs plus (x - xs) steps (all exact values).
+        const double es[3] = {e[0], e[1], e[2]};
+        while (x <= x_max && inside(e)) {
+          ++x;
           for (int k = 0; k < 3; ++k) e[k] += step_x[k];
         }
+        const int xe = x - 1;
+        const double inv = shader.inv_area2;
+        v2d ev[3], step2[3];
+        for (int k = 0; k < 3; ++k) ev[k] = v2d{es[k], es[k] + step_x[k]}, step2[k] = v2d{2 * step_x[k], 2 * step_x[k]};
+        const v2d vinv = {inv, inv};
+        int xp = xs;
+        for (; xp + 1 <= xe; xp += 2, px += 2 * C) {
+          shader.pixel_pair(ev[1] * vinv, ev[2] * vinv, ev[0] * vinv, px);
+          for (int k = 0; k < 3; ++k) ev[k] += step2[k];
+        }
+        if (xp == xe) shader.pixel(ev[1][0] * inv, ev[2][0] * inv, ev[0][0] * inv, px);
+        x = xe + 1;
       } else {
         while (x <= x_max && inside(e)) {
           ++x;
@@ -406,6 +500,7 @@ void draw_triangle(const Scene& scene, index_t t, int row_begin, int row_end, in
     }
     if (xs > xe) continue;
     float* px = &out.pixels[out.index(xs, y - row0)];
+    ready();
     if constexpr (cubic) {
       // Weights from the edge functions of p1->p2 and p2->p0 (of p0 and p1).
       const Point2 &a = p1, &b = p2;
@@ -516,38 +611,72 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
     }
   });
   scene.mesh_exact = exact;
-  {
-    std::vector<Point2> pos(scene.V);
-    tbb::parallel_for(tbb::blocked_range<index_t>(0, scene.V, 1 << 16), [&](const tbb::blocked_range<index_t>& r) {
-      for (index_t v = r.begin(); v < r.end(); ++v) pos[v] = scene.transform(mesh.points[v]);
-    });
-    scene.mesh_pos.swap(pos);
-  }
   scene.rim_exact.resize(scene.rim_points.size());
   for (std::size_t i = 0; i < scene.rim_points.size(); ++i) {
     const Point2 p = scene.pos(scene.V + static_cast<index_t>(i));
     scene.rim_exact[i] = scene.mesh_exact && exact_coordinate(p.x) && exact_coordinate(p.y);
   }
 
-  // Bin triangles by bands of rows (a counting sort over fixed chunks of
-  // triangles); bands are drawn in parallel and own their pixels, so no two
-  // threads write the same pixel.
+  // Bin triangles by bands of rows; bands are drawn in parallel and own
+  // their pixels, so no two threads write the same pixel. Runs of
+  // `run_size` consecutive triangles that span at most two bands (a mesh in
+  // spatial order, as an image's: triangles by smallest vertex id) are
+  // binned whole, and each band draws a run's triangles that reach it; the
+  // triangles of the other runs (the rim, meshes in no spatial order) are
+  // binned one by one (a counting sort over fixed chunks of triangles).
   const int bands = (row1 - row0 + band_rows - 1) / band_rows;
   const index_t n_tris = scene.triangle_count();
-  const index_t chunk = std::max<index_t>(1 << 14, (n_tris + 255) / 256);
+  constexpr index_t run_size = 256;
+  const index_t n_runs = (n_tris + run_size - 1) / run_size;
+  auto band_span = [&](index_t t, int& b0, int& b1) {  // b0 > b1: none
+    int first, last;
+    row_range(scene, t, row0, row1, first, last);
+    b0 = first <= last ? (first - row0) / band_rows : 1, b1 = first <= last ? (last - row0) / band_rows : 0;
+  };
+  std::vector<std::uint32_t> run_span(n_runs);  // first band | last band << 16; first > last: none
+  tbb::parallel_for(tbb::blocked_range<index_t>(0, n_runs, 64), [&](const tbb::blocked_range<index_t>& r) {
+    for (index_t k = r.begin(); k < r.end(); ++k) {
+      int lo = bands, hi = -1;
+      for (index_t t = k * run_size; t < std::min(n_tris, (k + 1) * run_size); ++t) {
+        int b0, b1;
+        band_span(t, b0, b1);
+        if (b0 <= b1) lo = std::min(lo, b0), hi = std::max(hi, b1);
+      }
+      run_span[k] = lo <= hi ? static_cast<std::uint32_t>(lo) | static_cast<std::uint32_t>(hi) << 16 : 1u;
+    }
+  });
+  auto run_first = [&](index_t k) { return static_cast<int>(run_span[k] & 0xffff); };
+  auto run_last = [&](index_t k) { return static_cast<int>(run_span[k] >> 16); };
+  auto whole = [&](index_t k) { return run_last(k) - run_first(k) <= 1; };  // also true for empty runs
+  // Runs binned whole: band-major lists.
+  std::vector<index_t> run_offset(bands + 1, 0), runs_binned;
+  for (index_t k = 0; k < n_runs; ++k)
+    if (whole(k))
+      for (int b = run_first(k); b <= run_last(k); ++b) ++run_offset[b + 1];
+  for (int b = 0; b < bands; ++b) run_offset[b + 1] += run_offset[b];
+  runs_binned.resize(run_offset[bands]);
+  {
+    std::vector<index_t> cursor(run_offset.begin(), run_offset.end() - 1);
+    for (index_t k = 0; k < n_runs; ++k)
+      if (whole(k))
+        for (int b = run_first(k); b <= run_last(k); ++b) runs_binned[cursor[b]++] = k;
+  }
+  // The other triangles, one by one.
+  const index_t chunk = std::max<index_t>(1 << 14, (n_tris / 256 + run_size) / run_size * run_size);  // runs whole
   const int chunks = static_cast<int>((n_tris + chunk - 1) / chunk);
   std::vector<std::size_t> offset(static_cast<std::size_t>(chunks) * bands + 1, 0);  // [band][chunk]: count, then start
   auto slot = [&](int k, int b) -> std::size_t& { return offset[static_cast<std::size_t>(b) * chunks + k]; };
-  std::vector<std::uint32_t> span(n_tris);  // first band | last band << 16; first > last: none
-  tbb::parallel_for(0, chunks, [&](int k) {
-    for (index_t t = k * chunk; t < std::min(n_tris, (k + 1) * chunk); ++t) {
-      int first, last;
-      row_range(scene, t, row0, row1, first, last);
-      const int b0 = first <= last ? (first - row0) / band_rows : 1, b1 = first <= last ? (last - row0) / band_rows : 0;
-      span[t] = static_cast<std::uint32_t>(b0) | static_cast<std::uint32_t>(b1) << 16;
-      for (int b = b0; b <= b1; ++b) ++slot(k, b);
+  auto for_each_single = [&](int k, auto&& f) {  // the triangles of chunk k not in whole runs, with their bands
+    for (index_t t = k * chunk; t < std::min(n_tris, (k + 1) * chunk); t += run_size) {
+      if (whole(t / run_size)) continue;
+      for (index_t u = t; u < std::min(n_tris, t + run_size); ++u) {
+        int b0, b1;
+        band_span(u, b0, b1);
+        for (int b = b0; b <= b1; ++b) f(u, b);
+      }
     }
-  });
+  };
+  tbb::parallel_for(0, chunks, [&](int k) { for_each_single(k, [&](index_t, int b) { ++slot(k, b); }); });
   std::size_t running = 0;
   for (std::size_t& o : offset) {  // band-major: each band's triangles contiguous, in triangle order
     const std::size_t count = o;
@@ -558,11 +687,8 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
   tbb::parallel_for(0, chunks, [&](int k) {
     std::vector<std::size_t> cursor(bands);
     for (int b = 0; b < bands; ++b) cursor[b] = slot(k, b);
-    for (index_t t = k * chunk; t < std::min(n_tris, (k + 1) * chunk); ++t)
-      for (int b = static_cast<int>(span[t] & 0xffff); b <= static_cast<int>(span[t] >> 16); ++b)
-        binned[cursor[b]++] = t;
+    for_each_single(k, [&](index_t t, int b) { binned[cursor[b]++] = t; });
   });
-  span = {};
   auto band_begin = [&](int b) { return offset[static_cast<std::size_t>(b) * chunks]; };
   auto band_end = [&](int b) { return b + 1 < bands ? offset[static_cast<std::size_t>(b + 1) * chunks] : running; };
 
@@ -581,9 +707,17 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
       default: return cubic ? with(channels<0>{}, std::true_type{}) : with(channels<0>{}, std::false_type{});
     }
   };
-  tbb::parallel_for(0, bands, [&](int b) {
+  // One coverage buffer per task, reused by its bands (no fresh pages per band).
+  tbb::parallel_for(tbb::blocked_range<int>(0, bands, 1), [&](const tbb::blocked_range<int>& range) {
+   std::vector<unsigned char> hits;
+   for (int b = range.begin(); b < range.end(); ++b) {
     const int row_begin = row0 + b * band_rows, row_end = std::min(row1, row_begin + band_rows);
-    std::vector<unsigned char> hits(static_cast<std::size_t>(row_end - row_begin) * grid.width, 0);
+    hits.assign(static_cast<std::size_t>(row_end - row_begin) * grid.width, 0);
+    for (index_t i = run_offset[b]; i < run_offset[b + 1]; ++i) {
+      const index_t k = runs_binned[i];
+      for (index_t t = k * run_size; t < std::min(n_tris, (k + 1) * run_size); ++t)
+        draw(t, row_begin, row_end, hits.data());
+    }
     for (std::size_t i = band_begin(b); i < band_end(b); ++i) draw(binned[i], row_begin, row_end, hits.data());
     int zero = 0, many = 0;  // a band has fewer than 2^31 pixels
     for (const unsigned char h : hits) {
@@ -596,6 +730,7 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
         if (hits[i] == 0)
           holes[b].emplace_back(static_cast<int>(i % grid.width), row_begin - shift + static_cast<int>(i / grid.width));
     if (progress) progress->add(1);
+   }
   });
   for (int b = 0; b < bands; ++b) local.uncovered += band_uncovered[b], local.overcovered += band_overcovered[b];
 
