@@ -21,6 +21,7 @@
 // all of them.
 
 #include "image_io.hpp"
+#include "image_mesh.hpp"
 #include "optimizer.hpp"
 #include "rasterizer.hpp"
 #include "synthetic_scenes.hpp"
@@ -399,9 +400,7 @@ int main(int argc, char** argv) {
 
     // The parts alone, in this process, on 1 thread and on all.
     if (wanted("stages")) {
-      std::vector<Point2> points;
-      for (int y = 0; y < 1024; ++y)
-        for (int x = 0; x < 1024; ++x) points.push_back({x + 0.5, y + 0.5});
+      const std::vector<Point2> points = pixel_centres(1024, 1024);
       Table tri{{"stage alone (1024x1024)", "threads", "seconds (best of 3)", "throughput"}, {}};
       Mesh2 initial;
       for (int threads : {1, static_cast<int>(cores)}) {

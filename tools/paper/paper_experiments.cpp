@@ -37,6 +37,7 @@
 #include "costs.hpp"
 #include "error.hpp"
 #include "image_io.hpp"
+#include "image_mesh.hpp"
 #include "lookahead.hpp"
 #include "mesh_view.hpp"
 #include "optimizer.hpp"
@@ -71,12 +72,7 @@ std::vector<float> drive_values(const Image& img, int& K) {
   return v;
 }
 
-Mesh2 initial_mesh(const Image& img) {
-  std::vector<Point2> points;
-  for (int y = 0; y < img.height; ++y)
-    for (int x = 0; x < img.width; ++x) points.push_back({x + 0.5, y + 0.5});
-  return delaunay_triangulation(points);
-}
+Mesh2 initial_mesh(const Image& img) { return delaunay_triangulation(pixel_centres(img.width, img.height)); }
 
 // Quartile (0..3) of each pixel's local luma variance.
 std::vector<int> variance_quartiles(const Image& img) {
