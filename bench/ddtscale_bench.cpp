@@ -31,6 +31,7 @@
 #include "costs.hpp"
 
 #include <CGAL/version.h>
+#include <Eigen/Dense>
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/oiioversion.h>
@@ -267,6 +268,41 @@ struct Table {
 
 std::string mb(long kb) { return format("%.0f MB", kb / 1024.0); }
 
+// Where a render's time goes, from one-thread CPU seconds at several scales
+// s of an n x n input: t(s) = mesh + span s + pixel s^2 by least squares.
+// The mesh term is paid per triangle whatever the scale (binning, setup),
+// the span term per row a triangle crosses (rows grow with s), the pixel
+// term per output pixel; the first two bound the throughput at small scales.
+std::string render_cost_model(const std::map<std::pair<bool, double>, double>& cpu_seconds, long long triangles,
+                              int n) {
+  Table t{{"render (1 thread)", "per triangle", "per triangle row", "per output pixel", "x4: mesh + rows / pixels",
+           "x4 bound with free pixels"},
+          {}};
+  for (bool cubic : {false, true}) {
+    std::vector<std::pair<double, double>> samples;  // (scale, seconds)
+    for (const auto& [key, seconds] : cpu_seconds)
+      if (key.first == cubic) samples.emplace_back(key.second, seconds);
+    if (samples.size() < 3) continue;
+    Eigen::MatrixXd A(samples.size(), 3);
+    Eigen::VectorXd b(samples.size());
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      const double s = samples[i].first;
+      A.row(static_cast<Eigen::Index>(i)) << 1.0, s, s * s;
+      b(static_cast<Eigen::Index>(i)) = samples[i].second;
+    }
+    const Eigen::Vector3d x = A.colPivHouseholderQr().solve(b);
+    const double pixels_at_1 = double(n) * n;
+    const double fixed_x4 = x(0) + 4 * x(1), pixels_x4 = 16 * x(2);
+    t.rows.push_back({cubic ? "cubic" : "linear", format("%.0f ns", x(0) / triangles * 1e9),
+                      format("%.1f ns x s", x(1) / triangles * 1e9), format("%.1f ns", x(2) / pixels_at_1 * 1e9),
+                      format("%.3f s", fixed_x4) + format(" / %.3f s", pixels_x4),
+                      format("%.0f Mpix/s", 16 * pixels_at_1 / fixed_x4 / 1e6)});
+  }
+  return "Render cost model: one-thread CPU seconds at x1, x2, x4, x10 fitted as mesh + rows s + pixels s^2 "
+         "(least squares; " + std::to_string(triangles) + " triangles). \"x4 bound\" is the throughput at x4 if "
+         "writing pixels cost nothing.\n\n" + t.str() + "\n";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -437,7 +473,9 @@ int main(int argc, char** argv) {
                                 " flips, " + std::to_string(st.tests) + " tests)"});
       }
       const std::vector<float> gradients = grid_gradients(base, SlopeLimiter::mc4);
-      for (double scale : {2.0, 4.0, 10.0})
+      // One-thread CPU seconds by (cubic, scale), for the cost model below.
+      std::map<std::pair<bool, double>, double> one_thread_cpu;
+      for (double scale : {1.0, 2.0, 4.0, 10.0})
         for (bool cubic : {false, true}) {
           RenderGrid g;
           g.width = g.height = static_cast<int>(1024 * scale);
@@ -451,6 +489,7 @@ int main(int argc, char** argv) {
               render_mesh_into(out, 0, optimized, base.pixels, 3, g, nullptr, true, cubic ? &gradients : nullptr);
               best = std::min(best, now() - t0), best_cpu = std::min(best_cpu, cpu_now() - c0);
             }
+            if (threads == 1) one_thread_cpu[{cubic, scale}] = best_cpu;
             const double mpix = double(g.width) * g.height / 1e6;
             tri.rows.push_back({std::string("render ") + (cubic ? "cubic" : "linear") + " x" + format("%g", scale) +
                                     " (RGB float, into an allocated image)",
@@ -460,6 +499,7 @@ int main(int argc, char** argv) {
           }
         }
       emit("## Stages alone (in process, best of 3)\n\n" + tri.str() + "\n");
+      emit(render_cost_model(one_thread_cpu, optimized.triangle_count(), 1024));
     }
 
     // Large input.
