@@ -20,9 +20,12 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <iostream>
 #include <memory>
+
+#include <unistd.h>
 
 namespace {
 
@@ -185,8 +188,20 @@ int run_upscale(int argc, char** argv) {
     }
     // A progress bar on a terminal for runs over a second, unless --quiet.
     ddt::Progress progress;
+    // The bar draws on its own copy of the terminal's descriptor: image I/O
+    // points stderr at /dev/null while libraries read and write
+    // (src/image_io.cpp), and the bar goes on through the write stage.
+    std::unique_ptr<std::FILE, int (*)(std::FILE*)> bar_out(nullptr, &std::fclose);
     std::unique_ptr<ddt::ProgressBar> bar;
-    if (!args.quiet && ddt::ProgressBar::is_terminal(stderr)) bar = std::make_unique<ddt::ProgressBar>(progress, stderr);
+    if (!args.quiet && ddt::ProgressBar::is_terminal(stderr)) {
+      const int terminal = ::dup(STDERR_FILENO);
+      if (terminal >= 0) bar_out.reset(::fdopen(terminal, "w"));
+      if (terminal >= 0 && !bar_out) ::close(terminal);
+      if (bar_out) {
+        std::setvbuf(bar_out.get(), nullptr, _IONBF, 0);
+        bar = std::make_unique<ddt::ProgressBar>(progress, bar_out.get());
+      }
+    }
     auto log = [&](const std::string& line) {
       if (!args.verbose) return;
       if (bar) bar->print(line);

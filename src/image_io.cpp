@@ -6,10 +6,14 @@
 
 #include <OpenImageIO/filesystem.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <random>
 #include <system_error>
+
+#include <fcntl.h>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -58,12 +62,45 @@ OIIO::TypeDesc output_type(const std::string& path, SampleFormat source, const O
   return wanted;
 }
 
+// libpng, under OpenImageIO, prints its own "libpng error: ..." (and
+// warnings) on stderr before OpenImageIO hands the same error to us; we
+// report it once, so stderr points at /dev/null while a file is read or
+// written (one line per bad input). Nested and concurrent guards share the
+// redirection; the last one out restores stderr.
+class QuietLibraries {
+ public:
+  QuietLibraries() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (users_++ > 0) return;
+    std::fflush(stderr);
+    saved_ = ::dup(STDERR_FILENO);
+    const int null = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
+    if (saved_ >= 0 && null >= 0) ::dup2(null, STDERR_FILENO);
+    if (null >= 0) ::close(null);
+  }
+  ~QuietLibraries() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (--users_ > 0) return;
+    std::fflush(stderr);
+    if (saved_ >= 0) ::dup2(saved_, STDERR_FILENO), ::close(saved_);
+    saved_ = -1;
+  }
+  QuietLibraries(const QuietLibraries&) = delete;
+  QuietLibraries& operator=(const QuietLibraries&) = delete;
+
+ private:
+  static inline std::mutex mutex_;
+  static inline int users_ = 0;
+  static inline int saved_ = -1;
+};
+
 }  // namespace
 
 ImageFile read_image(const std::string& path) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw Error("cannot read '" + path + "': no such file");
   if (fs::is_directory(path, ec)) throw Error("cannot read '" + path + "': it is a directory");
+  const QuietLibraries quiet;
   auto in = OIIO::ImageInput::open(path);
   if (!in) {
     std::string msg = first_line(OIIO::geterror());
@@ -82,6 +119,11 @@ ImageFile read_image(const std::string& path) {
     std::string msg = first_line(in->geterror());
     throw Error("cannot read '" + path + "': " + (msg.empty() ? "corrupt image data" : msg));
   }
+  // A read that succeeds with a message is a damaged file decoded anyway
+  // (a truncated JPEG comes back grey below the cut, "Premature end of
+  // JPEG file"): refuse it rather than enlarge the damage.
+  if (const std::string damage = first_line(in->geterror()); !damage.empty())
+    throw Error("cannot read '" + path + "': " + damage);
   for (float v : file.image.pixels)
     if (!std::isfinite(v)) throw Error("cannot read '" + path + "': the image holds NaN or infinite samples");
   return file;
@@ -133,6 +175,7 @@ void write_image(const std::string& path, const Image& image, SampleFormat sourc
     fs::remove(tmp, ec);
     throw Error("cannot write '" + path + "': " + first_line(why));
   };
+  const QuietLibraries quiet;
   if (!out->open(tmp.string(), spec)) fail(out->geterror());
   if (!out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data())) fail(out->geterror());
   if (!out->close()) fail(out->geterror());

@@ -86,6 +86,14 @@ done
 printf 'not an image' >"$work/corrupt.png"
 run_fail "missing input" "$work/nope.png" "$work/o.png" --scale 2
 run_fail "corrupt input" "$work/corrupt.png" "$work/o.png" --scale 2
+# Cut files: libpng would add its own line; a cut JPEG decodes "successfully" in grey.
+head -c 200 "$work/in.png" >"$work/cut.png"
+run_fail "truncated PNG" "$work/cut.png" "$work/o.png" --scale 2
+oiiotool --pattern noise:type=uniform:seed=3 64x64 3 -d uint8 -o "$work/noise.jpg"
+head -c "$(( $(stat -c %s "$work/noise.jpg") * 3 / 5 ))" "$work/noise.jpg" >"$work/cut.jpg"
+run_fail "truncated JPEG" "$work/cut.jpg" "$work/o.png" --scale 2
+grep -q "Premature end" "$work/err.txt" && ok || bad "truncated JPEG: $(cat "$work/err.txt")"
+run_ok "whole JPEG" "$work/noise.jpg" "$work/noise_x2.png" --scale 2
 run_fail "scale zero" "$work/in.png" "$work/o.png" --scale 0
 grep -q "positive" "$work/err.txt" && ok || bad "scale zero: the error does not say the scale must be positive"
 run_fail "scale negative" "$work/in.png" "$work/o.png" --scale -3
