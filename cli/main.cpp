@@ -33,6 +33,7 @@ struct Arguments {
   std::string input, output;
   double scale = 0;
   bool scale_given = false;
+  bool width_given = false, height_given = false;  // on the command line
   int width = 0, height = 0;
   std::string cost = "sederberg";
   std::string cost_channel = "sum";
@@ -58,7 +59,7 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 // Output size from --scale / --width / --height; throws ddt::Error.
 void output_size(const Arguments& args, int in_w, int in_h, int& out_w, int& out_h) {
-  if (args.scale_given && (args.width != 0 || args.height != 0))
+  if (args.scale_given && (args.width_given || args.height_given))
     throw ddt::Error("give either --scale or --width/--height, not both");
   if (args.scale_given) {
     if (!(args.scale > 0) || !std::isfinite(args.scale)) throw ddt::Error("--scale must be a positive number");
@@ -66,8 +67,9 @@ void output_size(const Arguments& args, int in_w, int in_h, int& out_w, int& out
     if (w > 2e9 || h > 2e9) throw ddt::Error("--scale gives an output larger than --max-pixels");
     out_w = static_cast<int>(std::max(1.0, w));
     out_h = static_cast<int>(std::max(1.0, h));
-  } else if (args.width > 0 || args.height > 0) {
-    if (args.width < 0 || args.height < 0) throw ddt::Error("--width and --height must be positive");
+  } else if (args.width_given || args.height_given) {
+    if ((args.width_given && args.width <= 0) || (args.height_given && args.height <= 0))
+      throw ddt::Error("--width and --height must be positive");
     out_w = args.width > 0 ? args.width : static_cast<int>(std::max(1.0, std::round(double(in_w) * args.height / in_h)));
     out_h = args.height > 0 ? args.height : static_cast<int>(std::max(1.0, std::round(double(in_h) * args.width / in_w)));
   } else {
@@ -162,6 +164,8 @@ int run_upscale(int argc, char** argv) {
   try {
     app.parse(argc, argv);
     args.scale_given = app.count("--scale") > 0;
+    args.width_given = app.count("--width") > 0;
+    args.height_given = app.count("--height") > 0;
   } catch (const CLI::CallForHelp&) {
     std::cout << app.help();
     return 0;

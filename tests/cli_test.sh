@@ -96,6 +96,8 @@ grep -q "Premature end" "$work/err.txt" && ok || bad "truncated JPEG: $(cat "$wo
 run_ok "whole JPEG" "$work/noise.jpg" "$work/noise_x2.png" --scale 2
 run_fail "scale zero" "$work/in.png" "$work/o.png" --scale 0
 grep -q "positive" "$work/err.txt" && ok || bad "scale zero: the error does not say the scale must be positive"
+run_fail "width zero" "$work/in.png" "$work/o.png" --width 0
+grep -q "positive" "$work/err.txt" && ok || bad "width zero: the error does not say the size must be positive"
 run_fail "scale negative" "$work/in.png" "$work/o.png" --scale -3
 run_fail "scale not a number" "$work/in.png" "$work/o.png" --scale abc
 run_fail "no scale" "$work/in.png" "$work/o.png"
