@@ -51,6 +51,9 @@ double rmse(const Image& img, const GridBounds& b, const std::function<double(do
   return std::sqrt(sum / static_cast<double>(img.pixel_count()));
 }
 
+// A fault: a 30 degree line with a unit step across it, on a gentle slope.
+double step(double x, double y) { return 0.2 * x + (y > 0.3 + 0.58 * x ? 1.0 : 0.0); }
+
 }  // namespace
 
 TEST_CASE("grid_points: north-up pixel centres, a plane reproduced exactly") {
@@ -98,8 +101,6 @@ TEST_CASE("grid_points: scattered samples of a plane give the plane inside the h
 }
 
 TEST_CASE("grid_points: on a step field the step-aligned DDT mesh beats plain Delaunay") {
-  // A fault: a 30 degree line with a unit step across it, on a gentle slope.
-  auto step = [](double x, double y) { return 0.2 * x + (y > 0.3 + 0.58 * x ? 1.0 : 0.0); };
   const std::vector<Point2> p = halton_square(400);
   const std::vector<float> v = sample(p, step);
   GridOptions o;
@@ -155,7 +156,6 @@ TEST_CASE("grid_points: the default cost beats plain Delaunay on a step and a ri
 }
 
 TEST_CASE("grid_points: every optimizer of the image path, reproducible, a bad one refused") {
-  auto step = [](double x, double y) { return 0.2 * x + (y > 0.3 + 0.58 * x ? 1.0 : 0.0); };
   const std::vector<Point2> p = halton_square(300);
   const std::vector<float> v = sample(p, step);
   GridOptions o;
