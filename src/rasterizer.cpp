@@ -18,7 +18,6 @@
 namespace ddt {
 namespace {
 
-constexpr int band_rows = 32;
 constexpr int max_channels = 16;
 
 // Side of p relative to the directed line u->v with the exact predicate and
@@ -75,6 +74,21 @@ struct Scene {
   index_t source(index_t v) const { return v < V ? v : rim_source[v - V]; }
   const float* value(index_t v) const { return &values[static_cast<std::size_t>(source(v)) * C]; }
   bool exact(index_t v) const { return v < V ? mesh_exact : rim_exact[v - V] != 0; }
+
+  // Half-edges: 3t + k runs from corner k of triangle t to corner k + 1
+  // (mesh triangles first, then the rim's, as the triangle ids).
+  // rim_twin[i] is the twin of rim half-edge 3T + i; hull_twin maps each
+  // hull half-edge of the mesh to its rim twin (sorted).
+  std::vector<index_t> rim_twin;
+  std::vector<std::pair<index_t, index_t>> hull_twin;
+  index_t tail(index_t e) const {
+    return e < 3 * T ? mesh.tri[e] : rim_tris[static_cast<std::size_t>(e - 3 * T)];
+  }
+  index_t twin(index_t e) const {
+    if (e >= 3 * T) return rim_twin[static_cast<std::size_t>(e - 3 * T)];
+    if (mesh.opp[e] != no_edge || hull_twin.empty()) return mesh.opp[e];
+    return std::lower_bound(hull_twin.begin(), hull_twin.end(), std::make_pair(e, index_t(-1)))->second;
+  }
 };
 
 // floor and ceil for values well inside the int range (pixel coordinates,
@@ -182,8 +196,9 @@ void add_rim(Scene& scene) {
     const std::size_t k_out = index_of(e_out);
     const Point2 n_in = normal_of(e_in), n_out = normal_of(e_out);
     const double turn = std::atan2(n_in.x * n_out.y - n_in.y * n_out.x, n_in.x * n_out.x + n_in.y * n_out.y);
-    if (!(turn > 0)) continue;  // collinear hull vertex: slabs already meet
-    const int pieces = static_cast<int>(std::ceil(turn / max_piece));
+    // At a collinear hull vertex (turn 0, or below it by rounding) one flat
+    // triangle joins the slabs, so the rim stays one ring of triangles.
+    const int pieces = turn > 0 ? static_cast<int>(std::ceil(turn / max_piece)) : 1;
     const Point2& pv = mesh.points[v];
     index_t previous = far_end[k_in];
     for (int k = 1; k <= pieces; ++k) {
@@ -203,6 +218,32 @@ void add_rim(Scene& scene) {
       previous = next_far;
     }
   }
+  // Twins: rim edges matched with each other and with the hull's.
+  struct Side {
+    index_t lo, hi, e;
+  };
+  std::vector<Side> sides;
+  const index_t rim_base = 3 * scene.T, rim_half = static_cast<index_t>(scene.rim_tris.size());
+  for (index_t i = 0; i < rim_half; ++i) {
+    const index_t a = scene.rim_tris[i], b = scene.rim_tris[next_edge(i)];
+    sides.push_back({std::min(a, b), std::max(a, b), rim_base + i});
+  }
+  for (index_t e : hull) {
+    const index_t a = mesh.tri[e], b = mesh.tri[next_edge(e)];
+    sides.push_back({std::min(a, b), std::max(a, b), e});
+  }
+  std::sort(sides.begin(), sides.end(), [](const Side& p, const Side& q) { return p.lo != q.lo ? p.lo < q.lo : p.hi < q.hi; });
+  scene.rim_twin.assign(rim_half, no_edge);
+  auto set_twin = [&](index_t e, index_t f) {
+    if (e >= rim_base) scene.rim_twin[e - rim_base] = f;
+    else scene.hull_twin.emplace_back(e, f);
+  };
+  for (std::size_t i = 0; i + 1 < sides.size(); ++i)
+    if (sides[i].lo == sides[i + 1].lo && sides[i].hi == sides[i + 1].hi) {
+      set_twin(sides[i].e, sides[i + 1].e), set_twin(sides[i + 1].e, sides[i].e);
+      ++i;
+    }
+  std::sort(scene.hull_twin.begin(), scene.hull_twin.end());
 }
 
 // The cubic patch of scene triangle t (corners i) for channel c.
@@ -370,150 +411,138 @@ struct Shader {
   }
 };
 
-inline void count_hits(unsigned char* h, int xs, int xe) {
-  for (int x = xs; x <= xe; ++x) h[x] = static_cast<unsigned char>(h[x] < 255 ? h[x] + 1 : 255);
-}
-
-// Draws the part of triangle t on grid rows [row_begin, row_end) into `out`,
-// grid row y to out row y - row0; hits counts the band's pixels.
-template <int CT, bool cubic>
-void draw_triangle(const Scene& scene, index_t t, int row_begin, int row_end, int row0, Image& out,
-                   unsigned char* hits) {
-  index_t id[3];
-  scene.corners(t, id);
-  const Point2 p0 = scene.pos(id[0]), p1 = scene.pos(id[1]), p2 = scene.pos(id[2]);
-  const double min_y = std::min({p0.y, p1.y, p2.y}), max_y = std::max({p0.y, p1.y, p2.y});
-  const int y_lo = std::max(row_begin, ceil_int(clamp_pixels(min_y)));
-  const int y_hi = std::min(row_end - 1, floor_int(clamp_pixels(max_y)));
-  if (y_lo > y_hi) return;
-  const bool exact = t < scene.T ? scene.mesh_exact : scene.exact(id[0]) && scene.exact(id[1]) && scene.exact(id[2]);
-  const double area2 = (p1.x - p0.x) * (p2.y - p0.y) - (p1.y - p0.y) * (p2.x - p0.x);
-  // Collapsed by the output transform: nothing to own.
-  if (exact ? !(area2 > 0) : orientation(p0, p1, p2) <= 0) return;
-  const int W = out.width;
-  const double min_x = std::min({p0.x, p1.x, p2.x}), max_x = std::max({p0.x, p1.x, p2.x});
-  const int x_min = std::max(0, ceil_int(clamp_pixels(min_x)));
-  const int x_max = std::min(W - 1, floor_int(clamp_pixels(max_x)));
-  if (x_min > x_max) return;
-  Shader<CT, cubic> shader;
-  bool shader_ready = false;
-  auto ready = [&]() -> const Shader<CT, cubic>& {
-    if (!shader_ready) shader.init(scene, t, id, p0, p1, p2, area2), shader_ready = true;
-    return shader;
-  };
-  const int C = CT > 0 ? CT : scene.C;
-  const Point2* P[3] = {&p0, &p1, &p2};
-
-  if (exact) {
-    // Exact coordinates: the edge functions E_k of edges p_k -> p_(k+1),
-    // stepped from pixel to pixel, exactly (each value is an edge function
-    // at a pixel centre: a multiple of 2^-20 below 2^33). A centre is
-    // inside edge k when E_k > 0, or E_k == 0 and the tie goes to this
-    // side; E_k > -2^-21 says both. E_k / area2 is the barycentric weight
-    // of the vertex opposite the edge.
-    double row_start[3], step_x[3], step_y[3], threshold[3];
-    for (int k = 0; k < 3; ++k) {
-      const Point2 &u = *P[k], &v = *P[(k + 1) % 3];
-      row_start[k] = (v.x - u.x) * (y_lo - u.y) - (v.y - u.y) * (x_min - u.x);
-      step_x[k] = -(v.y - u.y);
-      step_y[k] = v.x - u.x;
-      threshold[k] = tie_side(u, v) > 0 ? -0x1p-21 : 0.0;
+// The downward edge u->v (u.y < v.y) of the triangle on its left: that
+// triangle owns a pixel centre of a row crossing the edge when the centre
+// is left of it (side > 0), the triangle on its right otherwise.
+struct Crossing {
+  Edge edge;
+  double slope;  // dX/dY
+  Crossing(const Point2& u, const Point2& v, bool exact)
+      : edge{u, v, v.x - u.x, v.y - u.y, tie_side(u, v), exact}, slope((v.x - u.x) / (v.y - u.y)) {}
+  // The first pixel of row Y right of the edge, clamped to [0, W].
+  int first_right(int Y, int W) const {
+    if (edge.exact) {
+      // The crossing is n / beta with n = alpha (Y - u.y) + beta u.x exact
+      // (as an edge function); the first pixel is its ceiling, ties
+      // included (side -1 on the line). The quotient rounds to an integer
+      // only when it is one: otherwise it is at least 2^-20 / 2^16 from
+      // one, more than half an ulp of numbers below 2^16.
+      const double n = edge.alpha * (Y - edge.u.y) + edge.beta * edge.u.x;
+      return std::clamp(ceil_int(std::clamp(n / edge.beta, -1.0, W + 1.0)), 0, W);
     }
-    auto inside = [&](const double e[3]) {
-      return (e[0] > threshold[0]) & (e[1] > threshold[1]) & (e[2] > threshold[2]);
-    };
-    for (int y = y_lo; y <= y_hi; ++y) {
-      double e[3] = {row_start[0], row_start[1], row_start[2]};
-      for (int k = 0; k < 3; ++k) row_start[k] += step_y[k];
-      int x = x_min;
-      while (x <= x_max && !inside(e)) {
-        ++x;
-        for (int k = 0; k < 3; ++k) e[k] += step_x[k];
-      }
-      if (x > x_max) continue;
-      const int xs = x;
-      float* px = &out.pixels[out.index(xs, y - row0)];
-      ready();
-      if constexpr (cubic) {
-        // The span first, then its pixels in pairs; e at pixel x is
-        // exactly e at xs plus (x - xs) steps (all exact values).
-        const double es[3] = {e[0], e[1], e[2]};
-        while (x <= x_max && inside(e)) {
-          ++x;
-          for (int k = 0; k < 3; ++k) e[k] += step_x[k];
-        }
-        const int xe = x - 1;
-        const double inv = shader.inv_area2;
+    // A floating-point estimate, then the exact side of the pixels beside it.
+    const double x_cross = edge.u.x + (Y - edge.u.y) * slope;
+    int x = std::clamp(ceil_int(std::clamp(x_cross, -1.0, W + 1.0)), 0, W);
+    while (x > 0 && edge.side(x - 1, Y) < 0) --x;
+    while (x < W && edge.side(x, Y) > 0) ++x;
+    return x;
+  }
+};
+
+// A triangle that owns pixels: corners in pixels, and its shader.
+template <int CT, bool cubic>
+struct Piece {
+  const index_t* id;
+  const Point2* p;
+  bool exact;  // all corners exact: edge functions at pixel centres are exact
+  Shader<CT, cubic> shader;
+
+  Piece(const Scene& scene, index_t t, const index_t corner[3], const Point2 position[3], bool all_exact)
+      : id(corner), p(position), exact(all_exact) {
+    const double area2 = (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[1].y - p[0].y) * (p[2].x - p[0].x);
+    shader.init(scene, t, id, p[0], p[1], p[2], area2);
+  }
+
+  // Pixels xs..xe (xs <= xe) of grid row y, at px.
+  void span(int y, int xs, int xe, float* px) const {
+    if constexpr (!cubic) {
+      shader.row(y, xs, xe, px);
+    } else {
+      const int C = shader.C;
+      const double inv = shader.inv_area2;
+      if (exact) {
+        // The edge functions E_k of edges p_k -> p_(k+1) at (xs, y) and
+        // their steps along the row, all exact (multiples of 2^-20 below
+        // 2^33); E_k / area2 is the weight of the vertex opposite edge k.
         v2d ev[3], step2[3];
-        for (int k = 0; k < 3; ++k) ev[k] = v2d{es[k], es[k] + step_x[k]}, step2[k] = v2d{2 * step_x[k], 2 * step_x[k]};
+        for (int k = 0; k < 3; ++k) {
+          const Point2 &u = p[k], &v = p[(k + 1) % 3];
+          const double e = (v.x - u.x) * (y - u.y) - (v.y - u.y) * (xs - u.x), step = -(v.y - u.y);
+          ev[k] = v2d{e, e + step}, step2[k] = v2d{2 * step, 2 * step};
+        }
         const v2d vinv = {inv, inv};
-        int xp = xs;
-        for (; xp + 1 <= xe; xp += 2, px += 2 * C) {
+        int x = xs;
+        for (; x + 1 <= xe; x += 2, px += 2 * C) {
           shader.pixel_pair(ev[1] * vinv, ev[2] * vinv, ev[0] * vinv, px);
           for (int k = 0; k < 3; ++k) ev[k] += step2[k];
         }
-        if (xp == xe) shader.pixel(ev[1][0] * inv, ev[2][0] * inv, ev[0][0] * inv, px);
-        x = xe + 1;
+        if (x == xe) shader.pixel(ev[1][0] * inv, ev[2][0] * inv, ev[0][0] * inv, px);
       } else {
-        while (x <= x_max && inside(e)) {
-          ++x;
-          for (int k = 0; k < 3; ++k) e[k] += step_x[k];
+        // Weights from the edge functions of p1->p2 and p2->p0 (of p0 and p1).
+        const double Y = y;
+        const Point2 &a = p[1], &b = p[2];
+        for (int x = xs; x <= xe; ++x, px += C) {
+          const double l0 = ((b.x - a.x) * (Y - a.y) - (b.y - a.y) * (x - a.x)) * inv;
+          const double l1 = ((p[0].x - b.x) * (Y - b.y) - (p[0].y - b.y) * (x - b.x)) * inv;
+          shader.pixel(l0, l1, 1.0 - l0 - l1, px);
         }
-        shader.row(y, xs, x - 1, px);
       }
-      count_hits(hits + static_cast<std::size_t>(y - row_begin) * W, xs, x - 1);
     }
-    return;
   }
+};
 
-  // General coordinates: per row, the crossing of each edge in floating
-  // point (accurate far below a pixel), then the exact side at the pixels
-  // next to it decides the integer bound.
-  Edge edges[3];
-  double slope[3];  // dX/dY along each non-horizontal edge
-  for (int k = 0; k < 3; ++k) {
-    const Point2 &u = *P[k], &v = *P[(k + 1) % 3];
-    edges[k] = Edge{u, v, v.x - u.x, v.y - u.y, tie_side(u, v), false};
-    slope[k] = edges[k].beta != 0 ? edges[k].alpha / edges[k].beta : 0;
+// Rows [g, g + m) hold no vertex strictly between them (no vertex y in
+// (g, g + m - 1]), so the same triangles cross every row of the group, in
+// the same order. Walks them from the upward boundary half-edge `start`
+// (the left bound of the first) across each one's downward crossing edge
+// to the next, and draws each one's part of the rows: the pixels between
+// its left and right crossings. Each crossing is computed once, for the two
+// triangles beside it, so a walk draws every pixel at most once. Returns
+// the pixels drawn; on return, row r's pixels drawn are [first[r], left[r]).
+template <int CT, bool cubic>
+long long walk_rows(const Scene& scene, index_t start, int g, int m, int shift, Image& out, std::vector<int>& first,
+                    std::vector<int>& left, std::vector<int>& right) {
+  const int W = out.width;
+  first.resize(m), left.resize(m), right.resize(m);
+  {
+    const index_t a = scene.tail(start), b = scene.tail(next_edge(start));
+    const Crossing boundary(scene.pos(b), scene.pos(a), scene.exact(a) && scene.exact(b));
+    for (int r = 0; r < m; ++r) first[r] = left[r] = boundary.first_right(g + r, W);
   }
-  for (int y = y_lo; y <= y_hi; ++y) {
-    const double Y = y;
-    int xs = x_min, xe = x_max;
-    for (int k = 0; k < 3 && xs <= xe; ++k) {
-      const Edge& ed = edges[k];
-      if (ed.beta == 0) {  // horizontal: the whole row is on one side
-        if (ed.side(xs, Y) < 0) xs = xe + 1;
-        continue;
-      }
-      const double cross = std::clamp(ed.u.x + (Y - ed.u.y) * slope[k], double(x_min) - 1, double(x_max) + 1);
-      if (ed.beta > 0) {  // inside for X left of the crossing: a right bound
-        int x = std::min(xe, floor_int(cross));
-        while (x + 1 <= xe && ed.side(x + 1, Y) > 0) ++x;
-        while (x >= xs && ed.side(x, Y) < 0) --x;
-        xe = x;
-      } else {  // a left bound
-        int x = std::max(xs, ceil_int(cross));
-        while (x - 1 >= xs && ed.side(x - 1, Y) > 0) --x;
-        while (x <= xe && ed.side(x, Y) < 0) ++x;
-        xs = x;
-      }
+  long long drawn = 0;
+  index_t e = start;
+  for (index_t steps = 0;; ++steps) {
+    if (steps > scene.triangle_count()) throw Error("render_mesh: the mesh's adjacency is inconsistent");
+    const index_t t = tri_of(e);
+    index_t id[3];
+    Point2 p[3];
+    scene.corners(t, id);
+    for (int k = 0; k < 3; ++k) p[k] = scene.pos(id[k]);
+    // The downward edge across the rows: one, since the triangle is crossed.
+    int k = 0;
+    while (k < 2 && !(p[k].y <= g && p[(k + 1) % 3].y > g)) ++k;
+    const bool exact_a = scene.exact(id[k]), exact_b = scene.exact(id[(k + 1) % 3]);
+    const Crossing bound(p[k], p[(k + 1) % 3], exact_a && exact_b);
+    bool owns = false;
+    for (int r = 0; r < m; ++r) {
+      // max: a triangle turned over by rounding (general coordinates) owns nothing.
+      right[r] = std::max(left[r], bound.first_right(g + r, W));
+      owns |= right[r] > left[r];
     }
-    if (xs > xe) continue;
-    float* px = &out.pixels[out.index(xs, y - row0)];
-    ready();
-    if constexpr (cubic) {
-      // Weights from the edge functions of p1->p2 and p2->p0 (of p0 and p1).
-      const Point2 &a = p1, &b = p2;
-      for (int x = xs; x <= xe; ++x, px += C) {
-        const double l0 = ((b.x - a.x) * (Y - a.y) - (b.y - a.y) * (x - a.x)) * shader.inv_area2;
-        const double l1 = ((p0.x - b.x) * (Y - b.y) - (p0.y - b.y) * (x - b.x)) * shader.inv_area2;
-        shader.pixel(l0, l1, 1.0 - l0 - l1, px);
-      }
-    } else {
-      shader.row(Y, xs, xe, px);
+    if (owns) {
+      const Piece<CT, cubic> piece(scene, t, id, p, exact_a && exact_b && scene.exact(id[(k + 2) % 3]));
+      for (int r = 0; r < m; ++r)
+        if (right[r] > left[r]) {
+          piece.span(g + r, left[r], right[r] - 1, &out.pixels[out.index(left[r], g + r - shift)]);
+          drawn += right[r] - left[r];
+        }
     }
-    count_hits(hits + static_cast<std::size_t>(y - row_begin) * W, xs, xe);
+    std::swap(left, right);
+    const index_t next = scene.twin(3 * t + k);
+    if (next == no_edge) break;
+    e = next;
   }
+  return drawn;
 }
 
 Image render_collinear(const Mesh2& mesh, const std::vector<float>& values, int C, const RenderGrid& grid, int row0,
@@ -562,17 +591,6 @@ Image render_collinear(const Mesh2& mesh, const std::vector<float>& values, int 
   return out;
 }
 
-// Rows [first, last] (clipped to [row0, row1)) a triangle may own; first >
-// last when none.
-void row_range(const Scene& scene, index_t t, int row0, int row1, int& first, int& last) {
-  index_t id[3];
-  scene.corners(t, id);
-  const double y0 = scene.pos(id[0]).y, y1 = scene.pos(id[1]).y, y2 = scene.pos(id[2]).y;
-  const double lo = std::min({y0, y1, y2}), hi = std::max({y0, y1, y2});
-  first = std::max(row0, ceil_int(clamp_pixels(lo)));
-  last = std::min(row1 - 1, floor_int(clamp_pixels(hi)));
-}
-
 }  // namespace
 
 void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vector<float>& values, int C,
@@ -581,7 +599,6 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
   if (gradients && (gradients->size() != values.size() * 2 || C > max_channels))
     throw Error("render_mesh: cubic mode needs #V x C x 2 gradients and at most 16 channels");
   if (C > max_channels) throw Error("render_mesh: at most 16 channels");
-  if (grid.height > band_rows * 65535) throw Error("render_mesh: the output is too tall");
   RenderStats local;
   const int row0 = grid.rows < 0 ? 0 : std::clamp(grid.first_row, 0, grid.height);
   const int row1 = grid.rows < 0 ? grid.height : std::clamp(grid.first_row + grid.rows, row0, grid.height);
@@ -604,135 +621,96 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
   local.triangles = scene.T;
   local.rim_triangles = static_cast<long long>(scene.rim_tris.size() / 3);
   std::atomic<bool> exact{grid.width <= 32768 && grid.height <= 32768};
+  // Rows of groups: row r starts a group when r == row0 or a vertex lies in
+  // (r - 1, r]; within a group the same triangles cross every row.
+  const int rows = row1 - row0;
+  std::vector<unsigned char> group_start(static_cast<std::size_t>(rows) + 1, 0);
+  group_start[0] = 1;
+  auto mark_row = [&](const Point2& p) {
+    if (p.y > row0 && p.y <= row1 - 1)
+      std::atomic_ref<unsigned char>(group_start[ceil_int(p.y) - row0]).store(1, std::memory_order_relaxed);
+  };
   tbb::parallel_for(tbb::blocked_range<index_t>(0, scene.V, 1 << 16), [&](const tbb::blocked_range<index_t>& r) {
-    for (index_t v = r.begin(); v < r.end() && exact.load(std::memory_order_relaxed); ++v) {
+    bool all_exact = exact.load(std::memory_order_relaxed);
+    for (index_t v = r.begin(); v < r.end(); ++v) {
       const Point2 p = scene.pos(v);
-      if (!exact_coordinate(p.x) || !exact_coordinate(p.y)) exact = false;
+      mark_row(p);
+      if (all_exact && (!exact_coordinate(p.x) || !exact_coordinate(p.y))) all_exact = exact = false;
     }
   });
   scene.mesh_exact = exact;
   scene.rim_exact.resize(scene.rim_points.size());
   for (std::size_t i = 0; i < scene.rim_points.size(); ++i) {
     const Point2 p = scene.pos(scene.V + static_cast<index_t>(i));
+    mark_row(p);
     scene.rim_exact[i] = scene.mesh_exact && exact_coordinate(p.x) && exact_coordinate(p.y);
   }
-
-  // Bin triangles by bands of rows; bands are drawn in parallel and own
-  // their pixels, so no two threads write the same pixel. Runs of
-  // `run_size` consecutive triangles that span at most two bands (a mesh in
-  // spatial order, as an image's: triangles by smallest vertex id) are
-  // binned whole, and each band draws a run's triangles that reach it; the
-  // triangles of the other runs (the rim, meshes in no spatial order) are
-  // binned one by one (a counting sort over fixed chunks of triangles).
-  const int bands = (row1 - row0 + band_rows - 1) / band_rows;
-  const index_t n_tris = scene.triangle_count();
-  constexpr index_t run_size = 256;
-  const index_t n_runs = (n_tris + run_size - 1) / run_size;
-  auto band_span = [&](index_t t, int& b0, int& b1) {  // b0 > b1: none
-    int first, last;
-    row_range(scene, t, row0, row1, first, last);
-    b0 = first <= last ? (first - row0) / band_rows : 1, b1 = first <= last ? (last - row0) / band_rows : 0;
-  };
-  std::vector<std::uint32_t> run_span(n_runs);  // first band | last band << 16; first > last: none
-  tbb::parallel_for(tbb::blocked_range<index_t>(0, n_runs, 64), [&](const tbb::blocked_range<index_t>& r) {
-    for (index_t k = r.begin(); k < r.end(); ++k) {
-      int lo = bands, hi = -1;
-      for (index_t t = k * run_size; t < std::min(n_tris, (k + 1) * run_size); ++t) {
-        int b0, b1;
-        band_span(t, b0, b1);
-        if (b0 <= b1) lo = std::min(lo, b0), hi = std::max(hi, b1);
-      }
-      run_span[k] = lo <= hi ? static_cast<std::uint32_t>(lo) | static_cast<std::uint32_t>(hi) << 16 : 1u;
-    }
-  });
-  auto run_first = [&](index_t k) { return static_cast<int>(run_span[k] & 0xffff); };
-  auto run_last = [&](index_t k) { return static_cast<int>(run_span[k] >> 16); };
-  auto whole = [&](index_t k) { return run_last(k) - run_first(k) <= 1; };  // also true for empty runs
-  // Runs binned whole: band-major lists.
-  std::vector<index_t> run_offset(bands + 1, 0), runs_binned;
-  for (index_t k = 0; k < n_runs; ++k)
-    if (whole(k))
-      for (int b = run_first(k); b <= run_last(k); ++b) ++run_offset[b + 1];
-  for (int b = 0; b < bands; ++b) run_offset[b + 1] += run_offset[b];
-  runs_binned.resize(run_offset[bands]);
-  {
-    std::vector<index_t> cursor(run_offset.begin(), run_offset.end() - 1);
-    for (index_t k = 0; k < n_runs; ++k)
-      if (whole(k))
-        for (int b = run_first(k); b <= run_last(k); ++b) runs_binned[cursor[b]++] = k;
+  std::vector<int> group_first, group_of_row(rows);
+  for (int r = 0; r < rows; ++r) {
+    if (group_start[r]) group_first.push_back(row0 + r);
+    group_of_row[r] = static_cast<int>(group_first.size()) - 1;
   }
-  // The other triangles, one by one.
-  const index_t chunk = std::max<index_t>(1 << 14, (n_tris / 256 + run_size) / run_size * run_size);  // runs whole
-  const int chunks = static_cast<int>((n_tris + chunk - 1) / chunk);
-  std::vector<std::size_t> offset(static_cast<std::size_t>(chunks) * bands + 1, 0);  // [band][chunk]: count, then start
-  auto slot = [&](int k, int b) -> std::size_t& { return offset[static_cast<std::size_t>(b) * chunks + k]; };
-  auto for_each_single = [&](int k, auto&& f) {  // the triangles of chunk k not in whole runs, with their bands
-    for (index_t t = k * chunk; t < std::min(n_tris, (k + 1) * chunk); t += run_size) {
-      if (whole(t / run_size)) continue;
-      for (index_t u = t; u < std::min(n_tris, t + run_size); ++u) {
-        int b0, b1;
-        band_span(u, b0, b1);
-        for (int b = b0; b <= b1; ++b) f(u, b);
-      }
-    }
-  };
-  tbb::parallel_for(0, chunks, [&](int k) { for_each_single(k, [&](index_t, int b) { ++slot(k, b); }); });
-  std::size_t running = 0;
-  for (std::size_t& o : offset) {  // band-major: each band's triangles contiguous, in triangle order
-    const std::size_t count = o;
-    o = running;
-    running += count;
-  }
-  std::vector<index_t> binned(running);
-  tbb::parallel_for(0, chunks, [&](int k) {
-    std::vector<std::size_t> cursor(bands);
-    for (int b = 0; b < bands; ++b) cursor[b] = slot(k, b);
-    for_each_single(k, [&](index_t t, int b) { binned[cursor[b]++] = t; });
-  });
-  auto band_begin = [&](int b) { return offset[static_cast<std::size_t>(b) * chunks]; };
-  auto band_end = [&](int b) { return b + 1 < bands ? offset[static_cast<std::size_t>(b + 1) * chunks] : running; };
+  const int groups = static_cast<int>(group_first.size());
+  group_first.push_back(row1);
 
-  if (progress) progress->begin("render", bands);
-  std::vector<long long> band_uncovered(bands, 0), band_overcovered(bands, 0);
-  std::vector<std::vector<std::pair<int, int>>> holes(bands);  // uncovered pixels (x, y)
-  auto draw = [&](index_t t, int row_begin, int row_end, unsigned char* hits) {
-    auto with = [&](auto channels, auto cubic) {
-      draw_triangle<decltype(channels)::value, decltype(cubic)::value>(scene, t, row_begin, row_end, shift, out, hits);
-    };
-    const bool cubic = gradients != nullptr;
-    switch (C) {
-      case 1: return cubic ? with(channels<1>{}, std::true_type{}) : with(channels<1>{}, std::false_type{});
-      case 3: return cubic ? with(channels<3>{}, std::true_type{}) : with(channels<3>{}, std::false_type{});
-      case 4: return cubic ? with(channels<4>{}, std::true_type{}) : with(channels<4>{}, std::false_type{});
-      default: return cubic ? with(channels<0>{}, std::true_type{}) : with(channels<0>{}, std::false_type{});
-    }
+  // Each group's walks start at the upward boundary half-edges crossing it
+  // (the left bounds of the leftmost triangles: one, on a convex boundary).
+  std::vector<std::pair<int, index_t>> starts;  // (group, half-edge)
+  auto add_starts = [&](index_t e) {
+    const Point2 u = scene.pos(scene.tail(e)), v = scene.pos(scene.tail(next_edge(e)));
+    if (!(v.y < u.y)) return;
+    // rows h with v.y <= h < u.y: whole groups, since u and v start groups
+    const int h0 = std::max(row0, ceil_int(clamp_pixels(v.y))), h1 = std::min(row1 - 1, ceil_int(clamp_pixels(u.y)) - 1);
+    if (h0 > h1) return;
+    for (int k = group_of_row[h0 - row0]; k <= group_of_row[h1 - row0]; ++k) starts.emplace_back(k, e);
   };
-  // One coverage buffer per task, reused by its bands (no fresh pages per band).
-  tbb::parallel_for(tbb::blocked_range<int>(0, bands, 1), [&](const tbb::blocked_range<int>& range) {
-   std::vector<unsigned char> hits;
-   for (int b = range.begin(); b < range.end(); ++b) {
-    const int row_begin = row0 + b * band_rows, row_end = std::min(row1, row_begin + band_rows);
-    hits.assign(static_cast<std::size_t>(row_end - row_begin) * grid.width, 0);
-    for (index_t i = run_offset[b]; i < run_offset[b + 1]; ++i) {
-      const index_t k = runs_binned[i];
-      for (index_t t = k * run_size; t < std::min(n_tris, (k + 1) * run_size); ++t)
-        draw(t, row_begin, row_end, hits.data());
-    }
-    for (std::size_t i = band_begin(b); i < band_end(b); ++i) draw(binned[i], row_begin, row_end, hits.data());
-    int zero = 0, many = 0;  // a band has fewer than 2^31 pixels
-    for (const unsigned char h : hits) {
-      zero += h == 0;
-      many += h > 1;
-    }
-    band_uncovered[b] = zero, band_overcovered[b] = many;
-    if (zero > 0 && fill_outside)
-      for (std::size_t i = 0; i < hits.size(); ++i)
-        if (hits[i] == 0)
-          holes[b].emplace_back(static_cast<int>(i % grid.width), row_begin - shift + static_cast<int>(i / grid.width));
-    if (progress) progress->add(1);
-   }
-  });
-  for (int b = 0; b < bands; ++b) local.uncovered += band_uncovered[b], local.overcovered += band_overcovered[b];
+  if (fill_outside) {
+    for (std::size_t i = 0; i < scene.rim_twin.size(); ++i)
+      if (scene.rim_twin[i] == no_edge) add_starts(3 * scene.T + static_cast<index_t>(i));
+  } else {
+    for (index_t e = 0; e < mesh.half_edge_count(); ++e)
+      if (mesh.opp[e] == no_edge) add_starts(e);
+  }
+  std::sort(starts.begin(), starts.end());
+  std::vector<std::size_t> starts_of(groups + 1, 0);  // group k: starts[starts_of[k], starts_of[k + 1])
+  for (const auto& s : starts) ++starts_of[s.first + 1];
+  for (int k = 0; k < groups; ++k) starts_of[k + 1] += starts_of[k];
+
+  if (progress) progress->begin("render", groups);
+  std::atomic<long long> drawn{0}, overlap{0};
+  auto draw_groups = [&](auto channels, auto cubic) {
+    constexpr int CT = decltype(channels)::value;
+    constexpr bool is_cubic = decltype(cubic)::value;
+    tbb::parallel_for(tbb::blocked_range<int>(0, groups), [&](const tbb::blocked_range<int>& range) {
+      std::vector<int> first, left, right;
+      std::vector<std::pair<int, int>> extents;  // a group's walks on one boundary (non-convex): (row, x) spans
+      long long count = 0, twice = 0;
+      for (int k = range.begin(); k < range.end(); ++k) {
+        const int g = group_first[k], m = group_first[k + 1] - g;
+        extents.clear();
+        for (std::size_t i = starts_of[k]; i < starts_of[k + 1]; ++i) {
+          count += walk_rows<CT, is_cubic>(scene, starts[i].second, g, m, shift, out, first, left, right);
+          if (starts_of[k + 1] - starts_of[k] > 1)
+            for (int r = 0; r < m; ++r) extents.emplace_back(r * (grid.width + 1) + first[r], r * (grid.width + 1) + left[r]);
+        }
+        // Walks from different starts meet only if the boundary is inconsistent.
+        std::sort(extents.begin(), extents.end());
+        for (std::size_t i = 1; i < extents.size(); ++i)
+          twice += std::max(0, std::min(extents[i - 1].second, extents[i].second) - extents[i].first);
+      }
+      drawn += count, overlap += twice;
+      if (progress) progress->add(range.size());
+    });
+  };
+  const bool cubic = gradients != nullptr;
+  switch (C) {
+    case 1: cubic ? draw_groups(channels<1>{}, std::true_type{}) : draw_groups(channels<1>{}, std::false_type{}); break;
+    case 3: cubic ? draw_groups(channels<3>{}, std::true_type{}) : draw_groups(channels<3>{}, std::false_type{}); break;
+    case 4: cubic ? draw_groups(channels<4>{}, std::true_type{}) : draw_groups(channels<4>{}, std::false_type{}); break;
+    default: cubic ? draw_groups(channels<0>{}, std::true_type{}) : draw_groups(channels<0>{}, std::false_type{});
+  }
+  local.overcovered = overlap;
+  local.uncovered = static_cast<long long>(rows) * grid.width - (drawn - overlap);
 
   // Samples that fall on pixel centres are written exactly (the plane and
   // the patch equal the vertex value there up to rounding).
@@ -748,16 +726,6 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
     for (int c = 0; c < C; ++c) px[c] = z[c];
   });
 
-  if (fill_outside && local.uncovered > 0) {
-    // Only slivers collapsed by rounding can leave a hole; copy a neighbour
-    // (in raster order, so a filled hole can feed the next).
-    for (const auto& band : holes)
-      for (auto [x, y] : band) {
-        const int sx = x > 0 ? x - 1 : std::min(x + 1, grid.width - 1);
-        const int sy = x > 0 || grid.width > 1 ? y : (y > out_row ? y - 1 : std::min(y + 1, out_row + row1 - row0 - 1));
-        for (int c = 0; c < C; ++c) out.at(x, y, c) = out.at(sx, sy, c);
-      }
-  }
   if (stats) *stats = local;
 }
 

@@ -20,8 +20,12 @@
 // Bézier patch (cubic), evaluated in double; samples that coincide with
 // output pixel centres are then written as stored, bit for bit.
 //
-// Speed: triangles are binned into bands of rows, drawn in parallel (TBB);
-// per pixel one multiply-add per channel (linear). See docs/performance.md.
+// Order: rows are drawn in groups with no vertex strictly between their
+// rows, so the same triangles cross each row of a group in the same order;
+// a walk across the mesh's adjacency visits them left to right, computing
+// each edge's crossing once for the two triangles beside it. Every pixel is
+// drawn once, by construction; groups are drawn in parallel (TBB). Per
+// pixel one multiply-add per channel (linear). See docs/performance.md.
 //
 // A mesh with no triangles (collinear points) is rendered by linear
 // interpolation along the line, clamped at its ends; a single point gives a
@@ -49,8 +53,8 @@ struct RenderGrid {
 struct RenderStats {
   long long triangles = 0;       // mesh triangles drawn
   long long rim_triangles = 0;   // slab and fan triangles outside the hull
-  long long uncovered = 0;       // pixels no triangle owned (0 unless degenerate slivers)
-  long long overcovered = 0;     // pixels written more than once (always 0; checked)
+  long long uncovered = 0;       // pixels no triangle drew: outside the hull without the rim, else 0
+  long long overcovered = 0;     // pixels drawn more than once (0: each row's pieces are disjoint by construction)
 };
 
 // Cubic mode (gradients given): each triangle carries the cubic Bézier
@@ -67,7 +71,7 @@ struct RenderStats {
 //   fill_outside  render the rim outside the hull (false: those pixels keep `outside_value`)
 //   gradients     nullptr: piecewise linear; else #V by C by 2 vertex gradients
 //                 (d/dx, d/dy in input units) for the cubic mode; C <= 16
-//   progress      if given, a stage "render" counting bands of rows
+//   progress      if given, a stage "render" counting groups of rows
 // Output: width x height x C image.
 Image render_mesh(const Mesh2& mesh, const std::vector<float>& values, int C, const RenderGrid& grid,
                   RenderStats* stats = nullptr, bool fill_outside = true, float outside_value = 0.0f,
