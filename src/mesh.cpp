@@ -96,6 +96,38 @@ std::string check_mesh(const Mesh2& mesh) {
   return {};
 }
 
+std::vector<index_t> hull_half_edges(const Mesh2& mesh, bool* whole_disk) {
+  const index_t n_half = mesh.half_edge_count();
+  std::vector<index_t> hull;
+  index_t first = 0;
+  while (first < n_half && mesh.opp[first] != no_edge) ++first;
+  if (whole_disk) *whole_disk = false;
+  if (first == n_half) return hull;
+  // From a hull half-edge around its head to the hull half-edge leaving it.
+  index_t steps = 0;
+  for (index_t e = first; steps <= n_half;) {
+    hull.push_back(e);
+    index_t f = next_edge(e);
+    while (mesh.opp[f] != no_edge && ++steps <= n_half) f = next_edge(mesh.opp[f]);
+    if (f == first) {
+      // One cycle. Euler's formula for a triangulated disk whose vertices
+      // are all the points, T = 2V - h - 2, rules out a second cycle (each
+      // adds its edges to the count) unless unused points offset it.
+      const auto V = static_cast<long long>(mesh.points.size()), h = static_cast<long long>(hull.size());
+      if (mesh.triangle_count() == 2 * V - h - 2) {
+        if (whole_disk) *whole_disk = true;
+        return hull;
+      }
+      break;
+    }
+    e = f, ++steps;
+  }
+  hull.clear();
+  for (index_t e = 0; e < n_half; ++e)
+    if (mesh.opp[e] == no_edge) hull.push_back(e);
+  return hull;
+}
+
 double total_area(const Mesh2& mesh) {
   double sum = 0;
   for (index_t t = 0; t < mesh.triangle_count(); ++t)

@@ -82,6 +82,13 @@ void flip_edge(Mesh2& mesh, index_t e);
 // empty string when valid, else a description of the first problem.
 std::string check_mesh(const Mesh2& mesh);
 
+// The hull's half-edges (those without a twin). When the mesh is a
+// triangulated disk whose vertices are all its points (as a triangulation
+// of a point set is), they come in order around the hull, found by walking
+// it (a few steps per hull vertex, no pass over all half-edges), and
+// *whole_disk is set; else they come in half-edge order.
+std::vector<index_t> hull_half_edges(const Mesh2& mesh, bool* whole_disk = nullptr);
+
 // Total area of all triangles.
 double total_area(const Mesh2& mesh);
 

@@ -79,6 +79,8 @@ struct Scene {
   // (mesh triangles first, then the rim's, as the triangle ids).
   // rim_twin[i] is the twin of rim half-edge 3T + i; hull_twin maps each
   // hull half-edge of the mesh to its rim twin (sorted).
+  std::vector<index_t> hull;  // the mesh's hull half-edges
+  bool every_point_used = false;
   std::vector<index_t> rim_twin;
   std::vector<std::pair<index_t, index_t>> hull_twin;
   index_t tail(index_t e) const {
@@ -119,10 +121,7 @@ void add_rim(Scene& scene) {
   const RenderGrid& grid = scene.grid;
   const std::vector<float>& values = scene.values;
   const int C = scene.C;
-  const index_t n_half = mesh.half_edge_count();
-  std::vector<index_t> hull;
-  for (index_t e = 0; e < n_half; ++e)
-    if (mesh.opp[e] == no_edge) hull.push_back(e);
+  const std::vector<index_t>& hull = scene.hull;
   if (hull.empty()) return;
   std::vector<std::pair<index_t, index_t>> outgoing;  // (hull vertex, its hull half-edge), sorted
   outgoing.reserve(hull.size());
@@ -416,26 +415,44 @@ struct Shader {
 // is left of it (side > 0), the triangle on its right otherwise.
 struct Crossing {
   Edge edge;
-  double slope;  // dX/dY
-  Crossing(const Point2& u, const Point2& v, bool exact)
-      : edge{u, v, v.x - u.x, v.y - u.y, tie_side(u, v), exact}, slope((v.x - u.x) / (v.y - u.y)) {}
-  // The first pixel of row Y right of the edge, clamped to [0, W].
-  int first_right(int Y, int W) const {
+  Crossing(const Point2& u, const Point2& v, bool exact) : edge{u, v, v.x - u.x, v.y - u.y, tie_side(u, v), exact} {}
+  // x[r]: the first pixel of row g + r right of the edge, clamped to [0, W],
+  // for the m rows from g (all crossing the edge).
+  void first_right(int g, int m, int W, int* x) const {
+    const double alpha = edge.alpha, beta = edge.beta;
     if (edge.exact) {
       // The crossing is n / beta with n = alpha (Y - u.y) + beta u.x exact
-      // (as an edge function); the first pixel is its ceiling, ties
-      // included (side -1 on the line). The quotient rounds to an integer
-      // only when it is one: otherwise it is at least 2^-20 / 2^16 from
-      // one, more than half an ulp of numbers below 2^16.
-      const double n = edge.alpha * (Y - edge.u.y) + edge.beta * edge.u.x;
-      return std::clamp(ceil_int(std::clamp(n / edge.beta, -1.0, W + 1.0)), 0, W);
+      // (an edge function); the first pixel is its ceiling b, ties included
+      // (side -1 on the line). The quotient rounds to an integer only when
+      // it is one: otherwise it is at least 2^-20 / 2^16 from one, more than
+      // half an ulp of numbers below 2^16 (the crossing lies on the edge).
+      // Row to row, n grows by alpha = qa beta + ra (0 <= ra < beta), so b
+      // steps by qa or qa + 1 as the remainder n - b beta in (-beta, 0]
+      // says (Bresenham's stepping; all exact).
+      const double n = alpha * (g - edge.u.y) + beta * edge.u.x;
+      int b = ceil_int(n / beta);
+      double remainder = n - b * beta;
+      const int qa = m > 1 ? floor_int(alpha / beta) : 0;  // |alpha / beta| < 2^26, ulp/2 < 2^-10 / 2^16
+      const double ra = alpha - qa * beta;
+      for (int r = 0; r < m; ++r) {
+        x[r] = std::clamp(b, 0, W);
+        remainder += ra;
+        const bool carry = remainder > 0;
+        b += qa + carry;
+        remainder -= carry ? beta : 0.0;
+      }
+      return;
     }
     // A floating-point estimate, then the exact side of the pixels beside it.
-    const double x_cross = edge.u.x + (Y - edge.u.y) * slope;
-    int x = std::clamp(ceil_int(std::clamp(x_cross, -1.0, W + 1.0)), 0, W);
-    while (x > 0 && edge.side(x - 1, Y) < 0) --x;
-    while (x < W && edge.side(x, Y) > 0) ++x;
-    return x;
+    const double slope = alpha / beta;
+    for (int r = 0; r < m; ++r) {
+      const int Y = g + r;
+      const double x_cross = edge.u.x + (Y - edge.u.y) * slope;
+      int c = std::clamp(ceil_int(std::clamp(x_cross, -1.0, W + 1.0)), 0, W);
+      while (c > 0 && edge.side(c - 1, Y) < 0) --c;
+      while (c < W && edge.side(c, Y) > 0) ++c;
+      x[r] = c;
+    }
   }
 };
 
@@ -493,40 +510,74 @@ struct Piece {
 
 // Rows [g, g + m) hold no vertex strictly between them (no vertex y in
 // (g, g + m - 1]), so the same triangles cross every row of the group, in
-// the same order. Walks them from the upward boundary half-edge `start`
-// (the left bound of the first) across each one's downward crossing edge
-// to the next, and draws each one's part of the rows: the pixels between
-// its left and right crossings. Each crossing is computed once, for the two
-// triangles beside it, so a walk draws every pixel at most once. Returns
-// the pixels drawn; on return, row r's pixels drawn are [first[r], left[r]).
+// the same order. A walk starts at an upward boundary half-edge (the left
+// bound of the first triangle) and crosses each triangle's downward
+// crossing edge to the next.
+
+// One walk to trace: its start and its rows' first row; the triangles met,
+// each with the slot of its downward crossing edge.
+struct Walk {
+  index_t start;
+  int g;
+  std::vector<std::pair<index_t, int>> crossed;
+};
+
+// Traces the walks together, a step of each in turn: each step is a chain
+// of dependent loads (twin, corners, positions), and independent chains
+// overlap.
+void trace_walks(const Scene& scene, Walk* walks, int n) {
+  index_t e[8];
+  int live = 0;
+  for (int i = 0; i < n; ++i) e[i] = walks[i].start, walks[i].crossed.clear(), ++live;
+  const std::size_t limit = static_cast<std::size_t>(scene.triangle_count());
+  while (live > 0)
+    for (int i = 0; i < n; ++i) {
+      if (e[i] == no_edge) continue;
+      const index_t t = tri_of(e[i]);
+      index_t id[3];
+      scene.corners(t, id);
+      const double y0 = scene.pos(id[0]).y, y1 = scene.pos(id[1]).y, y2 = scene.pos(id[2]).y;
+      // The downward edge across the rows: one, since the triangle is crossed.
+      const int g = walks[i].g;
+      // Without branches: which edge it is varies at random from step to step.
+      const int down0 = (y0 <= g) & (y1 > g), down1 = (y1 <= g) & (y2 > g);
+      const int k = (1 - down0) * (2 - down1);
+      walks[i].crossed.emplace_back(t, k);
+      e[i] = scene.twin(3 * t + k);
+      if (e[i] == no_edge) --live;
+      if (walks[i].crossed.size() > limit) throw Error("render_mesh: the mesh's adjacency is inconsistent");
+    }
+}
+
+// Draws a traced walk on rows [g, g + m): each triangle's part of a row is
+// the pixels between its left and right crossings, and each crossing is
+// computed once, for the two triangles beside it, so a walk draws every
+// pixel at most once. Returns the pixels drawn; on return, row r's pixels
+// drawn are [first[r], left[r]).
 template <int CT, bool cubic>
-long long walk_rows(const Scene& scene, index_t start, int g, int m, int shift, Image& out, std::vector<int>& first,
+long long draw_walk(const Scene& scene, const Walk& walk, int m, int shift, Image& out, std::vector<int>& first,
                     std::vector<int>& left, std::vector<int>& right) {
-  const int W = out.width;
+  const int W = out.width, g = walk.g;
   first.resize(m), left.resize(m), right.resize(m);
   {
-    const index_t a = scene.tail(start), b = scene.tail(next_edge(start));
+    const index_t a = scene.tail(walk.start), b = scene.tail(next_edge(walk.start));
     const Crossing boundary(scene.pos(b), scene.pos(a), scene.exact(a) && scene.exact(b));
-    for (int r = 0; r < m; ++r) first[r] = left[r] = boundary.first_right(g + r, W);
+    boundary.first_right(g, m, W, left.data());
+    first = left;
   }
   long long drawn = 0;
-  index_t e = start;
-  for (index_t steps = 0;; ++steps) {
-    if (steps > scene.triangle_count()) throw Error("render_mesh: the mesh's adjacency is inconsistent");
-    const index_t t = tri_of(e);
+  for (const auto& [t, k] : walk.crossed) {
     index_t id[3];
     Point2 p[3];
     scene.corners(t, id);
-    for (int k = 0; k < 3; ++k) p[k] = scene.pos(id[k]);
-    // The downward edge across the rows: one, since the triangle is crossed.
-    int k = 0;
-    while (k < 2 && !(p[k].y <= g && p[(k + 1) % 3].y > g)) ++k;
+    for (int i = 0; i < 3; ++i) p[i] = scene.pos(id[i]);
     const bool exact_a = scene.exact(id[k]), exact_b = scene.exact(id[(k + 1) % 3]);
     const Crossing bound(p[k], p[(k + 1) % 3], exact_a && exact_b);
+    bound.first_right(g, m, W, right.data());
     bool owns = false;
     for (int r = 0; r < m; ++r) {
       // max: a triangle turned over by rounding (general coordinates) owns nothing.
-      right[r] = std::max(left[r], bound.first_right(g + r, W));
+      right[r] = std::max(left[r], right[r]);
       owns |= right[r] > left[r];
     }
     if (owns) {
@@ -538,9 +589,6 @@ long long walk_rows(const Scene& scene, index_t start, int g, int m, int shift, 
         }
     }
     std::swap(left, right);
-    const index_t next = scene.twin(3 * t + k);
-    if (next == no_edge) break;
-    e = next;
   }
   return drawn;
 }
@@ -617,6 +665,7 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
   scene.gradients = gradients;
   scene.V = static_cast<index_t>(mesh.points.size());
   scene.T = mesh.triangle_count();
+  scene.hull = hull_half_edges(mesh, &scene.every_point_used);
   if (fill_outside) add_rim(scene);
   local.triangles = scene.T;
   local.rim_triangles = static_cast<long long>(scene.rim_tris.size() / 3);
@@ -668,8 +717,7 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
     for (std::size_t i = 0; i < scene.rim_twin.size(); ++i)
       if (scene.rim_twin[i] == no_edge) add_starts(3 * scene.T + static_cast<index_t>(i));
   } else {
-    for (index_t e = 0; e < mesh.half_edge_count(); ++e)
-      if (mesh.opp[e] == no_edge) add_starts(e);
+    for (index_t e : scene.hull) add_starts(e);
   }
   std::sort(starts.begin(), starts.end());
   std::vector<std::size_t> starts_of(groups + 1, 0);  // group k: starts[starts_of[k], starts_of[k + 1])
@@ -683,21 +731,33 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
     constexpr bool is_cubic = decltype(cubic)::value;
     tbb::parallel_for(tbb::blocked_range<int>(0, groups), [&](const tbb::blocked_range<int>& range) {
       std::vector<int> first, left, right;
-      std::vector<std::pair<int, int>> extents;  // a group's walks on one boundary (non-convex): (row, x) spans
+      constexpr int batch = 4;
+      Walk walks[batch];
+      int walk_group[batch];
+      // Spans of a group's walks when it has several (a non-convex boundary):
+      // (group, row, first pixel, end).
+      std::vector<std::array<int, 4>> extents;
       long long count = 0, twice = 0;
-      for (int k = range.begin(); k < range.end(); ++k) {
-        const int g = group_first[k], m = group_first[k + 1] - g;
-        extents.clear();
-        for (std::size_t i = starts_of[k]; i < starts_of[k + 1]; ++i) {
-          count += walk_rows<CT, is_cubic>(scene, starts[i].second, g, m, shift, out, first, left, right);
-          if (starts_of[k + 1] - starts_of[k] > 1)
-            for (int r = 0; r < m; ++r) extents.emplace_back(r * (grid.width + 1) + first[r], r * (grid.width + 1) + left[r]);
+      const std::size_t end = starts_of[range.end()];
+      for (std::size_t i = starts_of[range.begin()]; i < end; i += batch) {
+        const int n = static_cast<int>(std::min<std::size_t>(batch, end - i));
+        for (int j = 0; j < n; ++j) {
+          walk_group[j] = starts[i + j].first;
+          walks[j].start = starts[i + j].second, walks[j].g = group_first[walk_group[j]];
         }
-        // Walks from different starts meet only if the boundary is inconsistent.
-        std::sort(extents.begin(), extents.end());
-        for (std::size_t i = 1; i < extents.size(); ++i)
-          twice += std::max(0, std::min(extents[i - 1].second, extents[i].second) - extents[i].first);
+        trace_walks(scene, walks, n);
+        for (int j = 0; j < n; ++j) {
+          const int k = walk_group[j], m = group_first[k + 1] - group_first[k];
+          count += draw_walk<CT, is_cubic>(scene, walks[j], m, shift, out, first, left, right);
+          if (starts_of[k + 1] - starts_of[k] > 1)
+            for (int r = 0; r < m; ++r) extents.push_back({k, r, first[r], left[r]});
+        }
       }
+      // Walks from different starts meet only if the boundary is inconsistent.
+      std::sort(extents.begin(), extents.end());
+      for (std::size_t i = 1; i < extents.size(); ++i)
+        if (extents[i][0] == extents[i - 1][0] && extents[i][1] == extents[i - 1][1])
+          twice += std::max(0, std::min(extents[i - 1][3], extents[i][3]) - extents[i][2]);
       drawn += count, overlap += twice;
       if (progress) progress->add(range.size());
     });
@@ -714,10 +774,13 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
 
   // Samples that fall on pixel centres are written exactly (the plane and
   // the patch equal the vertex value there up to rounding).
-  std::vector<char> used(scene.V, 0);
-  for (index_t v : mesh.tri) used[v] = 1;
+  std::vector<char> used;
+  if (!scene.every_point_used) {
+    used.assign(scene.V, 0);
+    for (index_t v : mesh.tri) used[v] = 1;
+  }
   tbb::parallel_for(index_t(0), scene.V, [&](index_t v) {
-    if (!used[v]) return;
+    if (!used.empty() && !used[v]) return;
     const Point2 p = scene.pos(v);
     if (p.x != std::floor(p.x) || p.y != std::floor(p.y)) return;
     if (p.x < 0 || p.y < row0 || p.x >= grid.width || p.y >= row1) return;

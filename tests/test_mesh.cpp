@@ -85,3 +85,29 @@ TEST_CASE("check_mesh: reports a broken twin and a clockwise triangle") {
   std::swap(m.tri[0], m.tri[1]);
   CHECK_FALSE(check_mesh(m).empty());
 }
+
+TEST_CASE("hull_half_edges: walked in order around a triangulation, scanned otherwise") {
+  auto scanned = [](const Mesh2& m) {
+    std::set<index_t> s;
+    for (index_t e = 0; e < m.half_edge_count(); ++e)
+      if (m.opp[e] == no_edge) s.insert(e);
+    return s;
+  };
+  for (unsigned seed : {1u, 2u, 3u}) {
+    const Mesh2 m = delaunay_triangulation(test::random_points(200, seed));
+    bool whole = false;
+    const std::vector<index_t> hull = hull_half_edges(m, &whole);
+    CHECK(whole);
+    CHECK(std::set<index_t>(hull.begin(), hull.end()) == scanned(m));
+    REQUIRE(hull.size() == scanned(m).size());
+    for (std::size_t i = 0; i < hull.size(); ++i)  // each ends where the next starts
+      CHECK(m.tri[next_edge(hull[i])] == m.tri[hull[(i + 1) % hull.size()]]);
+  }
+  // A point no triangle uses: not every point is a vertex, so no walk claim.
+  Mesh2 m = test::grid_mesh(4, 3, true);
+  m.points.push_back({10, 10});
+  bool whole = true;
+  const std::vector<index_t> hull = hull_half_edges(m, &whole);
+  CHECK_FALSE(whole);
+  CHECK(std::set<index_t>(hull.begin(), hull.end()) == scanned(m));
+}

@@ -156,6 +156,50 @@ TEST_CASE("render_mesh: without the rim, outside pixels keep the no-data value")
   CHECK(st.overcovered == 0);
 }
 
+TEST_CASE("render_mesh: a U-shaped mesh without the rim: rows crossing both arms, the notch left alone") {
+  // The 5x3 grid without the two middle cells of the top row: rows through
+  // the arms meet the boundary four times (two walks per row).
+  const int w = 5, h = 3;
+  std::vector<std::array<index_t, 3>> tris;
+  for (int y = 0; y + 1 < h; ++y)
+    for (int x = 0; x + 1 < w; ++x) {
+      if (y == 0 && (x == 1 || x == 2)) continue;
+      const index_t i00 = y * w + x, i10 = i00 + 1, i01 = i00 + w, i11 = i01 + 1;
+      tris.push_back({i00, i10, i01});
+      tris.push_back({i10, i11, i01});
+    }
+  const Mesh2 m = test::mesh_from_triangles(test::grid_points(w, h), tris);
+  REQUIRE(m.triangle_count() == 12);
+  // A linear function is reproduced wherever the mesh is.
+  auto f = [](double x, double y) { return 0.25 + 0.125 * x - 0.0625 * y; };
+  std::vector<float> values;
+  for (const Point2& p : m.points) values.push_back(static_cast<float>(f(p.x, p.y)));
+  for (double scale : {4.0, 3.7}) {
+    RenderGrid g;
+    g.width = static_cast<int>(w * scale), g.height = static_cast<int>(h * scale);
+    g.scale_x = g.scale_y = scale;
+    RenderStats st;
+    const Image out = render_mesh(m, values, 1, g, &st, false, -1.0f);
+    long long nodata = 0, inside = 0;
+    for (int Y = 0; Y < g.height; ++Y)
+      for (int X = 0; X < g.width; ++X) {
+        const double x = (X + 0.5) / scale, y = (Y + 0.5) / scale;  // input position
+        const bool in_notch = x > 1.5 && x < 3.5 && y < 1.5;
+        const bool in_mesh = x >= 0.5 && x <= 4.5 && y >= 0.5 && y <= 2.5 && !in_notch;
+        const float v = out.at(X, Y, 0);
+        nodata += v == -1.0f;
+        if (in_notch) CHECK(v == -1.0f);
+        if (in_mesh && x > 0.51 && x < 4.49 && y > 0.51 && y < 2.49 && !(x > 1.49 && x < 3.51 && y < 1.51)) {
+          CHECK(v == doctest::Approx(f(x, y)).epsilon(1e-6));
+          ++inside;
+        }
+      }
+    CHECK(inside > 0);
+    CHECK(st.uncovered == nodata);
+    CHECK(st.overcovered == 0);
+  }
+}
+
 TEST_CASE("render_mesh: collinear samples interpolate along their line") {
   // A single row: values 0, 1, 2, 3 at x = 0.5 .. 3.5.
   Mesh2 m = delaunay_triangulation(test::grid_points(4, 1));
