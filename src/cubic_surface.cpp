@@ -1,4 +1,5 @@
 #include "cubic_surface.hpp"
+#include "huge_pages.hpp"
 
 #include "error.hpp"
 #include "upscale.hpp"
@@ -51,7 +52,8 @@ SlopeLimiter slope_limiter_by_name(const std::string& name) {
 
 std::vector<float> grid_gradients(const Image& src, SlopeLimiter limiter) {
   const int W = src.width, H = src.height, C = src.channels;
-  std::vector<float> g(src.pixel_count() * C * 2);
+  std::vector<float> g;
+  assign_huge(g, src.pixel_count() * C * 2, 0.0f);
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x)
       for (int c = 0; c < C; ++c) {

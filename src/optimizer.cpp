@@ -1,4 +1,5 @@
 #include "optimizer.hpp"
+#include "huge_pages.hpp"
 
 #include "error.hpp"
 
@@ -685,7 +686,8 @@ LawsonStats optimize_lawson(Mesh2& mesh, const std::vector<float>& values, int K
 
   if (fast && is_sederberg(cost)) {
     // The edge-term cache; its sums are total_cost's, term for term.
-    std::vector<double> terms(mesh.half_edge_count(), 0.0);
+    std::vector<double> terms;
+    assign_huge(terms, mesh.half_edge_count(), 0.0);
     auto go = [&](auto evaluator) {
       evaluator.cost = &terms;
       stats.cost_before = chunked_sum(mesh.half_edge_count(), [&](index_t e) {
