@@ -85,7 +85,7 @@ std::string check_mesh(const Mesh2& mesh);
 // The hull's half-edges (those without a twin). When the mesh is a
 // triangulated disk whose vertices are all its points (as a triangulation
 // of a point set is), they come in order around the hull, found by walking
-// it (a few steps per hull vertex, no pass over all half-edges), and
+// it (a few steps per hull vertex after a scan to the first), and
 // *whole_disk is set; else they come in half-edge order.
 std::vector<index_t> hull_half_edges(const Mesh2& mesh, bool* whole_disk = nullptr);
 

@@ -12,6 +12,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <numeric>
 #include <type_traits>
 
@@ -89,7 +90,8 @@ struct Scene {
   index_t twin(index_t e) const {
     if (e >= 3 * T) return rim_twin[static_cast<std::size_t>(e - 3 * T)];
     if (mesh.opp[e] != no_edge || hull_twin.empty()) return mesh.opp[e];
-    return std::lower_bound(hull_twin.begin(), hull_twin.end(), std::make_pair(e, index_t(-1)))->second;
+    const auto it = std::lower_bound(hull_twin.begin(), hull_twin.end(), std::make_pair(e, index_t(-1)));
+    return it != hull_twin.end() && it->first == e ? it->second : no_edge;
   }
 };
 
@@ -667,6 +669,10 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
   scene.T = mesh.triangle_count();
   scene.hull = hull_half_edges(mesh, &scene.every_point_used);
   if (fill_outside) add_rim(scene);
+  // Half-edges 3t + k of the mesh and the rim are index_t.
+  if (3 * (static_cast<long long>(scene.T) + static_cast<long long>(scene.rim_tris.size() / 3)) >
+      std::numeric_limits<index_t>::max())
+    throw Error("render_mesh: the mesh is too large to render in one piece (render it in bands of rows)");
   local.triangles = scene.T;
   local.rim_triangles = static_cast<long long>(scene.rim_tris.size() / 3);
   std::atomic<bool> exact{grid.width <= 32768 && grid.height <= 32768};
@@ -755,9 +761,13 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
       }
       // Walks from different starts meet only if the boundary is inconsistent.
       std::sort(extents.begin(), extents.end());
-      for (std::size_t i = 1; i < extents.size(); ++i)
-        if (extents[i][0] == extents[i - 1][0] && extents[i][1] == extents[i - 1][1])
-          twice += std::max(0, std::min(extents[i - 1][3], extents[i][3]) - extents[i][2]);
+      for (std::size_t i = 0, j = 0; i < extents.size(); i = j) {  // per (group, row): overlaps with the spans before
+        int reach = extents[i][3];
+        for (j = i + 1; j < extents.size() && extents[j][0] == extents[i][0] && extents[j][1] == extents[i][1]; ++j) {
+          twice += std::max(0, std::min(reach, extents[j][3]) - extents[j][2]);
+          reach = std::max(reach, extents[j][3]);
+        }
+      }
       drawn += count, overlap += twice;
       if (progress) progress->add(range.size());
     });
