@@ -270,7 +270,7 @@ std::string mb(long kb) { return format("%.0f MB", kb / 1024.0); }
 
 // Where a render's time goes, from one-thread CPU seconds at several scales
 // s of an n x n input: t(s) = mesh + rows s + pixels s^2 by least squares.
-// The mesh term is paid per triangle whatever the scale (binning, setup),
+// The mesh term is paid per triangle whatever the scale (walk, setup),
 // the rows term per row a triangle crosses (rows grow with s), the pixels
 // term per output pixel; the first two bound the throughput at small scales.
 std::string render_cost_model(const std::map<std::pair<bool, double>, double>& cpu_seconds, long long triangles,

@@ -1,7 +1,7 @@
 #include "cubic_surface.hpp"
-#include "huge_pages.hpp"
 
 #include "error.hpp"
+#include "huge_pages.hpp"
 #include "upscale.hpp"
 
 #include <algorithm>

@@ -1,7 +1,7 @@
 #include "optimizer.hpp"
-#include "huge_pages.hpp"
 
 #include "error.hpp"
+#include "huge_pages.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

@@ -81,7 +81,6 @@ struct Scene {
   // rim_twin[i] is the twin of rim half-edge 3T + i; hull_twin maps each
   // hull half-edge of the mesh to its rim twin (sorted).
   std::vector<index_t> hull;  // the mesh's hull half-edges
-  bool every_point_used = false;
   std::vector<index_t> rim_twin;
   std::vector<std::pair<index_t, index_t>> hull_twin;
   index_t tail(index_t e) const {
@@ -518,6 +517,8 @@ struct Piece {
 
 // One walk to trace: its start and its rows' first row; the triangles met,
 // each with the slot of its downward crossing edge.
+constexpr int walk_batch = 4;  // walks traced together
+
 struct Walk {
   index_t start;
   int g;
@@ -526,9 +527,9 @@ struct Walk {
 
 // Traces the walks together, a step of each in turn: each step is a chain
 // of dependent loads (twin, corners, positions), and independent chains
-// overlap.
+// overlap. n <= walk_batch.
 void trace_walks(const Scene& scene, Walk* walks, int n) {
-  index_t e[8];
+  index_t e[walk_batch];
   int live = 0;
   for (int i = 0; i < n; ++i) e[i] = walks[i].start, walks[i].crossed.clear(), ++live;
   const std::size_t limit = static_cast<std::size_t>(scene.triangle_count());
@@ -667,7 +668,8 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
   scene.gradients = gradients;
   scene.V = static_cast<index_t>(mesh.points.size());
   scene.T = mesh.triangle_count();
-  scene.hull = hull_half_edges(mesh, &scene.every_point_used);
+  bool every_point_used = false;
+  scene.hull = hull_half_edges(mesh, &every_point_used);
   if (fill_outside) add_rim(scene);
   // Half-edges 3t + k of the mesh and the rim are index_t.
   if (3 * (static_cast<long long>(scene.T) + static_cast<long long>(scene.rim_tris.size() / 3)) >
@@ -737,16 +739,15 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
     constexpr bool is_cubic = decltype(cubic)::value;
     tbb::parallel_for(tbb::blocked_range<int>(0, groups), [&](const tbb::blocked_range<int>& range) {
       std::vector<int> first, left, right;
-      constexpr int batch = 4;
-      Walk walks[batch];
-      int walk_group[batch];
+      Walk walks[walk_batch];
+      int walk_group[walk_batch];
       // Spans of a group's walks when it has several (a non-convex boundary):
       // (group, row, first pixel, end).
       std::vector<std::array<int, 4>> extents;
       long long count = 0, twice = 0;
       const std::size_t end = starts_of[range.end()];
-      for (std::size_t i = starts_of[range.begin()]; i < end; i += batch) {
-        const int n = static_cast<int>(std::min<std::size_t>(batch, end - i));
+      for (std::size_t i = starts_of[range.begin()]; i < end; i += walk_batch) {
+        const int n = static_cast<int>(std::min<std::size_t>(walk_batch, end - i));
         for (int j = 0; j < n; ++j) {
           walk_group[j] = starts[i + j].first;
           walks[j].start = starts[i + j].second, walks[j].g = group_first[walk_group[j]];
@@ -785,7 +786,7 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
   // Samples that fall on pixel centres are written exactly (the plane and
   // the patch equal the vertex value there up to rounding).
   std::vector<char> used;
-  if (!scene.every_point_used) {
+  if (!every_point_used) {
     used.assign(scene.V, 0);
     for (index_t v : mesh.tri) used[v] = 1;
   }

@@ -1,4 +1,5 @@
 #include "triangulation.hpp"
+
 #include "huge_pages.hpp"
 
 #include <CGAL/Delaunay_triangulation_2.h>
