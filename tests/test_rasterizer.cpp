@@ -1,3 +1,4 @@
+#include "cubic_surface.hpp"
 #include "optimizer.hpp"
 #include "rasterizer.hpp"
 #include "test_support.hpp"
@@ -136,6 +137,51 @@ TEST_CASE("render_mesh: outside the hull of scattered points, the nearest hull p
       CHECK(out.at(X, Y) == doctest::Approx(value).epsilon(1e-5));
     }
   CHECK(outside > 20);
+}
+
+TEST_CASE("render_mesh cubic: every pixel in the hull is its triangle's Bezier patch, clamped to the vertex values") {
+  // Small and large triangles (the power form from about a dozen pixels), thin ones from
+  // the optimizer (the Bernstein form), exact and inexact pixel coordinates (13.7).
+  const int C = 3;
+  Mesh2 m = delaunay_triangulation(test::random_points(60, 31, 10.0));
+  const std::vector<float> values = random_values(m.points.size(), C, 31);
+  optimize_lawson(m, values, C, find_cost("sederberg"));
+  std::vector<float> gradients = random_values(m.points.size(), 2 * C, 32);
+  for (float& g : gradients) g = 0.6f * g - 0.3f;
+  for (double scale : {1.5, 4.0, 10.0, 13.7}) {
+    CAPTURE(scale);
+    RenderGrid grid;
+    grid.width = grid.height = static_cast<int>(10 * scale);
+    grid.scale_x = grid.scale_y = scale;
+    const Image out = render_mesh(m, values, C, grid, nullptr, false, -1.0f, &gradients);
+    double worst = 0;
+    long long inside = 0;
+    for (int Y = 0; Y < grid.height; ++Y)
+      for (int X = 0; X < grid.width; ++X) {
+        const Point2 q{(X + 0.5) / scale, (Y + 0.5) / scale};
+        for (index_t t = 0; t < m.triangle_count(); ++t) {
+          const index_t* v = &m.tri[3 * static_cast<std::size_t>(t)];
+          const Point2 &p0 = m.points[v[0]], &p1 = m.points[v[1]], &p2 = m.points[v[2]];
+          const double area2 = (p1.x - p0.x) * (p2.y - p0.y) - (p1.y - p0.y) * (p2.x - p0.x);
+          const double l0 = ((p2.x - p1.x) * (q.y - p1.y) - (p2.y - p1.y) * (q.x - p1.x)) / area2;
+          const double l1 = ((p0.x - p2.x) * (q.y - p2.y) - (p0.y - p2.y) * (q.x - p2.x)) / area2;
+          const double l2 = 1 - l0 - l1;
+          if (l0 < -1e-9 || l1 < -1e-9 || l2 < -1e-9) continue;
+          ++inside;
+          for (int c = 0; c < C; ++c) {
+            auto z = [&](int k) { return double(values[static_cast<std::size_t>(v[k]) * C + c]); };
+            auto g = [&](int k) { return &gradients[(static_cast<std::size_t>(v[k]) * C + c) * 2]; };
+            const double g0[2] = {g(0)[0], g(0)[1]}, g1[2] = {g(1)[0], g(1)[1]}, g2[2] = {g(2)[0], g(2)[1]};
+            const double patch = eval_cubic_patch(cubic_patch(p0, p1, p2, z(0), z(1), z(2), g0, g1, g2), l0, l1, l2);
+            const double expected = std::clamp(patch, std::min({z(0), z(1), z(2)}), std::max({z(0), z(1), z(2)}));
+            worst = std::max(worst, std::abs(out.at(X, Y, c) - expected));
+          }
+          break;
+        }
+      }
+    CHECK(inside > grid.width * grid.height / 2);
+    CHECK(worst < 1e-6);
+  }
 }
 
 TEST_CASE("render_mesh: without the rim, outside pixels keep the no-data value") {
