@@ -282,15 +282,16 @@ struct Edge {
   }
 };
 
-// The cubic's power form pays for its conversion from about a dozen pixels
-// a triangle (twice the area in pixels: 24, measured). Its terms can cancel
+// The cubic's power form pays for its conversion from about 16 pixels a
+// triangle (twice the area in pixels: 32; on a grid, slower at x5, faster
+// at x6, measured). Its terms can cancel
 // where the Bernstein form's cannot. With K = (longest edge)^2 / (twice the
 // area), |a X| + |b Y| <= 2K inside the triangle, so each term of degree n
 // is at most (2K)^n |e_ij|, and |e_ij| <= 24 times the largest control
 // value: the rounding stays below about 800 K^3 eps of it, about 1e-9 for
 // K <= 20, far below a float's ulp. Thinner triangles (rim slabs, needles)
 // keep the Bernstein form.
-constexpr double power_form_min_area2 = 24;
+constexpr double power_form_min_area2 = 32;
 constexpr double power_form_max_shape = 20;
 
 double max_edge2(const Point2& p0, const Point2& p1, const Point2& p2) {

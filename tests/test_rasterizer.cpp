@@ -140,7 +140,7 @@ TEST_CASE("render_mesh: outside the hull of scattered points, the nearest hull p
 }
 
 TEST_CASE("render_mesh cubic: every pixel in the hull is its triangle's Bezier patch, clamped to the vertex values") {
-  // Small and large triangles (the power form from about a dozen pixels), thin ones from
+  // Small and large triangles (the power form from about 16 pixels), thin ones from
   // the optimizer (the Bernstein form), exact and inexact pixel coordinates (13.7).
   const int C = 3;
   Mesh2 m = delaunay_triangulation(test::random_points(60, 31, 10.0));
