@@ -479,9 +479,9 @@ struct Shader {
       px[c] = static_cast<float>(std::clamp(v, lo[c], hi[c]));
     }
   }
-  // Cubic: two neighbouring pixels at once (px and px + C), lane by lane
-  // the same operations in the same order as pixel(), so the same bits.
-  void pixel_pair(v2d l0, v2d l1, v2d l2, float* px) const {
+  // Cubic: two pixels at once (at px and qx), lane by lane the same
+  // operations in the same order as pixel(), so the same bits.
+  void pixel_pair(v2d l0, v2d l1, v2d l2, float* px, float* qx) const {
     const v2d l00 = l0 * l0, l11 = l1 * l1, l22 = l2 * l2;
     const v2d m[10] = {l00 * l0, l11 * l1, l22 * l2, l00 * l1, l0 * l11, l11 * l2, l1 * l22, l0 * l22, l00 * l2,
                        l0 * l1 * l2};
@@ -494,7 +494,7 @@ struct Shader {
       const v2d r1 = v < vlo ? vlo : v;
       const v2d r = vhi < r1 ? vhi : r1;
       px[c] = static_cast<float>(r[0]);
-      px[C + c] = static_cast<float>(r[1]);
+      qx[c] = static_cast<float>(r[1]);
     }
   }
 };
@@ -559,6 +559,56 @@ struct Piece {
     shader.init(scene, t, id, p[0], p[1], p[2], area2);
   }
 
+  // Its pixels [left[r], right[r]) of grid rows g + r, r < m; returns their count.
+  long long draw(int g, int m, const int* left, const int* right, Image& out, int shift) const {
+    long long drawn = 0;
+    if constexpr (cubic) {
+      if (!shader.by_power && exact) return draw_bernstein(g, m, left, right, out, shift);
+    }
+    for (int r = 0; r < m; ++r)
+      if (right[r] > left[r]) {
+        span(g + r, left[r], right[r] - 1, &out.pixels[out.index(left[r], g + r - shift)]);
+        drawn += right[r] - left[r];
+      }
+    return drawn;
+  }
+
+  // Cubic, Bernstein form, exact corners: the pixels of all rows paired in
+  // reading order, so rows of one or three pixels (small scales) waste no
+  // lanes. The edge functions E_k of edges p_k -> p_(k+1) are exact at
+  // pixel centres (multiples of 2^-20 below 2^33), so stepping them along a
+  // row is too; E_k / area2 is the weight of the vertex opposite edge k.
+  long long draw_bernstein(int g, int m, const int* left, const int* right, Image& out, int shift) const {
+    const int C = shader.C;
+    const double inv = shader.inv_area2;
+    long long drawn = 0;
+    bool held = false;  // a pixel waiting for its pair
+    double h0 = 0, h1 = 0, h2 = 0;
+    float* held_px = nullptr;
+    for (int r = 0; r < m; ++r) {
+      const int y = g + r, xs = left[r], xe = right[r];
+      if (xe <= xs) continue;
+      double e[3], step[3];
+      for (int k = 0; k < 3; ++k) {
+        const Point2 &u = p[k], &v = p[(k + 1) % 3];
+        e[k] = (v.x - u.x) * (y - u.y) - (v.y - u.y) * (xs - u.x), step[k] = -(v.y - u.y);
+      }
+      float* px = &out.pixels[out.index(xs, y - shift)];
+      for (int x = xs; x < xe; ++x, px += C) {
+        const double l0 = e[1] * inv, l1 = e[2] * inv, l2 = e[0] * inv;
+        if (held)
+          shader.pixel_pair(v2d{h0, l0}, v2d{h1, l1}, v2d{h2, l2}, held_px, px);
+        else
+          h0 = l0, h1 = l1, h2 = l2, held_px = px;
+        held = !held;
+        for (int k = 0; k < 3; ++k) e[k] += step[k];
+      }
+      drawn += xe - xs;
+    }
+    if (held) shader.pixel(h0, h1, h2, held_px);
+    return drawn;
+  }
+
   // Pixels xs..xe (xs <= xe) of grid row y, at px.
   void span(int y, int xs, int xe, float* px) const {
     if constexpr (!cubic) {
@@ -568,34 +618,13 @@ struct Piece {
         shader.power_row(y, xs, xe, px);
         return;
       }
-      const int C = shader.C;
-      const double inv = shader.inv_area2;
-      if (exact) {
-        // The edge functions E_k of edges p_k -> p_(k+1) at (xs, y) and
-        // their steps along the row, all exact (multiples of 2^-20 below
-        // 2^33); E_k / area2 is the weight of the vertex opposite edge k.
-        v2d ev[3], step2[3];
-        for (int k = 0; k < 3; ++k) {
-          const Point2 &u = p[k], &v = p[(k + 1) % 3];
-          const double e = (v.x - u.x) * (y - u.y) - (v.y - u.y) * (xs - u.x), step = -(v.y - u.y);
-          ev[k] = v2d{e, e + step}, step2[k] = v2d{2 * step, 2 * step};
-        }
-        const v2d vinv = {inv, inv};
-        int x = xs;
-        for (; x + 1 <= xe; x += 2, px += 2 * C) {
-          shader.pixel_pair(ev[1] * vinv, ev[2] * vinv, ev[0] * vinv, px);
-          for (int k = 0; k < 3; ++k) ev[k] += step2[k];
-        }
-        if (x == xe) shader.pixel(ev[1][0] * inv, ev[2][0] * inv, ev[0][0] * inv, px);
-      } else {
-        // Weights from the edge functions of p1->p2 and p2->p0 (of p0 and p1).
-        const double Y = y;
-        const Point2 &a = p[1], &b = p[2];
-        for (int x = xs; x <= xe; ++x, px += C) {
-          const double l0 = ((b.x - a.x) * (Y - a.y) - (b.y - a.y) * (x - a.x)) * inv;
-          const double l1 = ((p[0].x - b.x) * (Y - b.y) - (p[0].y - b.y) * (x - b.x)) * inv;
-          shader.pixel(l0, l1, 1.0 - l0 - l1, px);
-        }
+      // Weights from the edge functions of p1->p2 and p2->p0 (of p0 and p1).
+      const double inv = shader.inv_area2, Y = y;
+      const Point2 &a = p[1], &b = p[2];
+      for (int x = xs; x <= xe; ++x, px += shader.C) {
+        const double l0 = ((b.x - a.x) * (Y - a.y) - (b.y - a.y) * (x - a.x)) * inv;
+        const double l1 = ((p[0].x - b.x) * (Y - b.y) - (p[0].y - b.y) * (x - b.x)) * inv;
+        shader.pixel(l0, l1, 1.0 - l0 - l1, px);
       }
     }
   }
@@ -677,11 +706,7 @@ long long draw_walk(const Scene& scene, const Walk& walk, int m, int shift, Imag
     }
     if (owns) {
       const Piece<CT, cubic> piece(scene, t, id, p, exact_a && exact_b && scene.exact(id[(k + 2) % 3]));
-      for (int r = 0; r < m; ++r)
-        if (right[r] > left[r]) {
-          piece.span(g + r, left[r], right[r] - 1, &out.pixels[out.index(left[r], g + r - shift)]);
-          drawn += right[r] - left[r];
-        }
+      drawn += piece.draw(g, m, left.data(), right.data(), out, shift);
     }
     std::swap(left, right);
   }
