@@ -283,15 +283,16 @@ struct Edge {
 };
 
 // The cubic's power form pays for its conversion from about 16 pixels a
-// triangle (twice the area in pixels: 32; on a grid, slower at x5, faster
-// at x6, measured). Its terms can cancel
-// where the Bernstein form's cannot. With K = (longest edge)^2 / (twice the
-// area), |a X| + |b Y| <= 2K inside the triangle, so each term of degree n
-// is at most (2K)^n |e_ij|, and |e_ij| <= 24 times the largest control
-// value: the rounding stays below about 800 K^3 eps of it, about 1e-9 for
-// K <= 20, far below a float's ulp. Thinner triangles (rim slabs, needles)
-// keep the Bernstein form.
-constexpr double power_form_min_area2 = 32;
+// piece (on a grid: slower at x5, 12.5 pixels a triangle, faster at x6,
+// 18; measured). Its terms can cancel where the Bernstein form's cannot.
+// With K = (longest edge)^2 / (twice the area), |a X| + |b Y| <= K inside
+// the triangle (Cauchy-Schwarz), so the terms of degree n sum to at most
+// K^n |e_ij|, and |e_ij| <= 24 times the largest control value: in all at
+// most about 64 K^3 times it. The rounding of the operations that combine
+// them stays below about 1e-8 of it for K <= 20 (7e-12 measured on 300
+// triangles near K = 20), below a float's ulp. Thinner triangles (rim
+// slabs, needles) keep the Bernstein form.
+constexpr int power_form_min_pixels = 16;
 constexpr double power_form_max_shape = 20;
 
 double max_edge2(const Point2& p0, const Point2& p1, const Point2& p2) {
@@ -326,14 +327,14 @@ struct Shader {
   // Set up when the triangle turns out to own a pixel (many own none at
   // small scales).
   void init(const Scene& scene, index_t t, const index_t id[3], const Point2& q0, const Point2& p1, const Point2& p2,
-            double area2) {
+            double area2, long long pixels) {
     C = CT > 0 ? CT : scene.C, p0 = q0, inv_area2 = 1.0 / area2;
     const float *z0 = scene.value(id[0]), *z1 = scene.value(id[1]), *z2 = scene.value(id[2]);
     const double ux = p1.x - p0.x, uy = p1.y - p0.y, vx = p2.x - p0.x, vy = p2.y - p0.y;
     if constexpr (cubic) {
       if (t < scene.T) {
         mesh_patches(scene, id);
-        if (area2 >= power_form_min_area2 && max_edge2(p0, p1, p2) <= power_form_max_shape * area2) to_power(p1, p2);
+        if (pixels >= power_form_min_pixels && max_edge2(p0, p1, p2) <= power_form_max_shape * area2) to_power(p1, p2);
         return;
       }
     }
@@ -437,10 +438,10 @@ struct Shader {
       a3[c] = v2d{} + w[0], a2[c] = v2d{} + (w[1] + w[2] * Y), a1[c] = v2d{} + (w[3] + (w[4] + w[5] * Y) * Y);
       a0[c] = v2d{} + (w[6] + (w[7] + (w[8] + w[9] * Y) * Y) * Y);
     }
-    const v2d two = {2.0, 2.0};
-    v2d X = v2d{xs - p0.x, xs - p0.x + 1};
     int x = xs;
-    for (; x < xe; x += 2, px += 2 * C, X += two)
+    v2d X;
+    for (; x < xe; x += 2, px += 2 * C) {
+      X = v2d{double(x), double(x + 1)} - p0.x;
       for (int c = 0; c < C; ++c) {
         const v2d v = ((a3[c] * X + a2[c]) * X + a1[c]) * X + a0[c];
         // std::clamp(v, lo, hi), as in pixel()
@@ -450,9 +451,10 @@ struct Shader {
         px[c] = static_cast<float>(r[0]);
         px[C + c] = static_cast<float>(r[1]);
       }
+    }
     if (x == xe)
       for (int c = 0; c < C; ++c) {
-        const double X1 = X[0];
+        const double X1 = x - p0.x;
         const double v = ((a3[c][0] * X1 + a2[c][0]) * X1 + a1[c][0]) * X1 + a0[c][0];
         px[c] = static_cast<float>(std::clamp(v, lo[c], hi[c]));
       }
@@ -553,24 +555,21 @@ struct Piece {
   bool exact;  // all corners exact: edge functions at pixel centres are exact
   Shader<CT, cubic> shader;
 
-  Piece(const Scene& scene, index_t t, const index_t corner[3], const Point2 position[3], bool all_exact)
+  // pixels: how many it draws (the cubic picks its form by them).
+  Piece(const Scene& scene, index_t t, const index_t corner[3], const Point2 position[3], bool all_exact,
+        long long pixels)
       : id(corner), p(position), exact(all_exact) {
     const double area2 = (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[1].y - p[0].y) * (p[2].x - p[0].x);
-    shader.init(scene, t, id, p[0], p[1], p[2], area2);
+    shader.init(scene, t, id, p[0], p[1], p[2], area2, pixels);
   }
 
-  // Its pixels [left[r], right[r]) of grid rows g + r, r < m; returns their count.
-  long long draw(int g, int m, const int* left, const int* right, Image& out, int shift) const {
-    long long drawn = 0;
+  // Its pixels [left[r], right[r]) of grid rows g + r, r < m.
+  void draw(int g, int m, const int* left, const int* right, Image& out, int shift) const {
     if constexpr (cubic) {
       if (!shader.by_power && exact) return draw_bernstein(g, m, left, right, out, shift);
     }
     for (int r = 0; r < m; ++r)
-      if (right[r] > left[r]) {
-        span(g + r, left[r], right[r] - 1, &out.pixels[out.index(left[r], g + r - shift)]);
-        drawn += right[r] - left[r];
-      }
-    return drawn;
+      if (right[r] > left[r]) span(g + r, left[r], right[r] - 1, &out.pixels[out.index(left[r], g + r - shift)]);
   }
 
   // Cubic, Bernstein form, exact corners: the pixels of all rows paired in
@@ -578,10 +577,9 @@ struct Piece {
   // lanes. The edge functions E_k of edges p_k -> p_(k+1) are exact at
   // pixel centres (multiples of 2^-20 below 2^33), so stepping them along a
   // row is too; E_k / area2 is the weight of the vertex opposite edge k.
-  long long draw_bernstein(int g, int m, const int* left, const int* right, Image& out, int shift) const {
+  void draw_bernstein(int g, int m, const int* left, const int* right, Image& out, int shift) const {
     const int C = shader.C;
     const double inv = shader.inv_area2;
-    long long drawn = 0;
     bool held = false;  // a pixel waiting for its pair
     double h0 = 0, h1 = 0, h2 = 0;
     float* held_px = nullptr;
@@ -603,10 +601,8 @@ struct Piece {
         held = !held;
         for (int k = 0; k < 3; ++k) e[k] += step[k];
       }
-      drawn += xe - xs;
     }
     if (held) shader.pixel(h0, h1, h2, held_px);
-    return drawn;
   }
 
   // Pixels xs..xe (xs <= xe) of grid row y, at px.
@@ -673,14 +669,18 @@ void trace_walks(const Scene& scene, Walk* walks, int n) {
     }
 }
 
+struct DrawCounts {
+  long long pixels = 0, power_pieces = 0, bernstein_pieces = 0;
+};
+
 // Draws a traced walk on rows [g, g + m): each triangle's part of a row is
 // the pixels between its left and right crossings, and each crossing is
 // computed once, for the two triangles beside it, so a walk draws every
-// pixel at most once. Returns the pixels drawn; on return, row r's pixels
-// drawn are [first[r], left[r]).
+// pixel at most once. Adds the pixels and pieces drawn to counts; on
+// return, row r's pixels drawn are [first[r], left[r]).
 template <int CT, bool cubic>
-long long draw_walk(const Scene& scene, const Walk& walk, int m, int shift, Image& out, std::vector<int>& first,
-                    std::vector<int>& left, std::vector<int>& right) {
+void draw_walk(const Scene& scene, const Walk& walk, int m, int shift, Image& out, std::vector<int>& first,
+               std::vector<int>& left, std::vector<int>& right, DrawCounts& counts) {
   const int W = out.width, g = walk.g;
   first.resize(m), left.resize(m), right.resize(m);
   {
@@ -689,7 +689,6 @@ long long draw_walk(const Scene& scene, const Walk& walk, int m, int shift, Imag
     boundary.first_right(g, m, W, left.data());
     first = left;
   }
-  long long drawn = 0;
   for (const auto& [t, k] : walk.crossed) {
     index_t id[3];
     Point2 p[3];
@@ -698,19 +697,20 @@ long long draw_walk(const Scene& scene, const Walk& walk, int m, int shift, Imag
     const bool exact_a = scene.exact(id[k]), exact_b = scene.exact(id[(k + 1) % 3]);
     const Crossing bound(p[k], p[(k + 1) % 3], exact_a && exact_b);
     bound.first_right(g, m, W, right.data());
-    bool owns = false;
+    long long pixels = 0;
     for (int r = 0; r < m; ++r) {
       // max: a triangle turned over by rounding (general coordinates) owns nothing.
       right[r] = std::max(left[r], right[r]);
-      owns |= right[r] > left[r];
+      pixels += right[r] - left[r];
     }
-    if (owns) {
-      const Piece<CT, cubic> piece(scene, t, id, p, exact_a && exact_b && scene.exact(id[(k + 2) % 3]));
-      drawn += piece.draw(g, m, left.data(), right.data(), out, shift);
+    if (pixels > 0) {
+      const Piece<CT, cubic> piece(scene, t, id, p, exact_a && exact_b && scene.exact(id[(k + 2) % 3]), pixels);
+      piece.draw(g, m, left.data(), right.data(), out, shift);
+      counts.pixels += pixels;
+      if constexpr (cubic) ++(piece.shader.by_power ? counts.power_pieces : counts.bernstein_pieces);
     }
     std::swap(left, right);
   }
-  return drawn;
 }
 
 Image render_collinear(const Mesh2& mesh, const std::vector<float>& values, int C, const RenderGrid& grid, int row0,
@@ -850,7 +850,7 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
   for (int k = 0; k < groups; ++k) starts_of[k + 1] += starts_of[k];
 
   if (progress) progress->begin("render", groups);
-  std::atomic<long long> drawn{0}, overlap{0};
+  std::atomic<long long> drawn{0}, overlap{0}, power_pieces{0}, bernstein_pieces{0};
   auto draw_groups = [&](auto channels, auto cubic) {
     constexpr int CT = decltype(channels)::value;
     constexpr bool is_cubic = decltype(cubic)::value;
@@ -861,7 +861,8 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
       // Spans of a group's walks when it has several (a non-convex boundary):
       // (group, row, first pixel, end).
       std::vector<std::array<int, 4>> extents;
-      long long count = 0, twice = 0;
+      DrawCounts counts;
+      long long twice = 0;
       const std::size_t end = starts_of[range.end()];
       for (std::size_t i = starts_of[range.begin()]; i < end; i += walk_batch) {
         const int n = static_cast<int>(std::min<std::size_t>(walk_batch, end - i));
@@ -872,7 +873,7 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
         trace_walks(scene, walks, n);
         for (int j = 0; j < n; ++j) {
           const int k = walk_group[j], m = group_first[k + 1] - group_first[k];
-          count += draw_walk<CT, is_cubic>(scene, walks[j], m, shift, out, first, left, right);
+          draw_walk<CT, is_cubic>(scene, walks[j], m, shift, out, first, left, right, counts);
           if (starts_of[k + 1] - starts_of[k] > 1)
             for (int r = 0; r < m; ++r) extents.push_back({k, r, first[r], left[r]});
         }
@@ -886,7 +887,8 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
           reach = std::max(reach, extents[j][3]);
         }
       }
-      drawn += count, overlap += twice;
+      drawn += counts.pixels, overlap += twice;
+      power_pieces += counts.power_pieces, bernstein_pieces += counts.bernstein_pieces;
       if (progress) progress->add(range.size());
     });
   };
@@ -898,6 +900,7 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
     default: cubic ? draw_groups(channels<0>{}, std::true_type{}) : draw_groups(channels<0>{}, std::false_type{});
   }
   local.overcovered = overlap;
+  local.power_pieces = power_pieces, local.bernstein_pieces = bernstein_pieces;
   local.uncovered = static_cast<long long>(rows) * grid.width - (drawn - overlap);
 
   // Samples that fall on pixel centres are written exactly (the plane and

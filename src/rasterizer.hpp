@@ -55,6 +55,10 @@ struct RenderStats {
   long long rim_triangles = 0;   // slab and fan triangles outside the hull
   long long uncovered = 0;       // pixels no triangle drew: outside the hull without the rim, else 0
   long long overcovered = 0;     // pixels drawn more than once (0: each row's pieces are disjoint by construction)
+  // Cubic mode: pieces (a triangle's part of a group of rows) drawn from the
+  // patch's power form and from its Bernstein form.
+  long long power_pieces = 0;
+  long long bernstein_pieces = 0;
 };
 
 // Cubic mode (gradients given): each triangle carries the cubic Bézier

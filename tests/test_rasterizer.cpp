@@ -7,6 +7,8 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <limits>
+#include <tuple>
 
 using namespace ddt;
 
@@ -140,47 +142,72 @@ TEST_CASE("render_mesh: outside the hull of scattered points, the nearest hull p
 }
 
 TEST_CASE("render_mesh cubic: every pixel in the hull is its triangle's Bezier patch, clamped to the vertex values") {
-  // Small and large triangles (the power form from about 16 pixels), thin ones from
-  // the optimizer (the Bernstein form), exact and inexact pixel coordinates (13.7).
+  // Pieces of 16 pixels or more take the power form, thin triangles from the
+  // optimizer and small pieces the Bernstein form. Points on a 1/64 lattice
+  // make every pixel coordinate exact at scales 2, 4 and 10 (the paired
+  // Bernstein path); arbitrary points and x13.7 take the inexact one.
   const int C = 3;
-  Mesh2 m = delaunay_triangulation(test::random_points(60, 31, 10.0));
-  const std::vector<float> values = random_values(m.points.size(), C, 31);
-  optimize_lawson(m, values, C, find_cost("sederberg"));
-  std::vector<float> gradients = random_values(m.points.size(), 2 * C, 32);
-  for (float& g : gradients) g = 0.6f * g - 0.3f;
-  for (double scale : {1.5, 4.0, 10.0, 13.7}) {
-    CAPTURE(scale);
-    RenderGrid grid;
-    grid.width = grid.height = static_cast<int>(10 * scale);
-    grid.scale_x = grid.scale_y = scale;
-    const Image out = render_mesh(m, values, C, grid, nullptr, false, -1.0f, &gradients);
-    double worst = 0;
-    long long inside = 0;
-    for (int Y = 0; Y < grid.height; ++Y)
-      for (int X = 0; X < grid.width; ++X) {
-        const Point2 q{(X + 0.5) / scale, (Y + 0.5) / scale};
-        for (index_t t = 0; t < m.triangle_count(); ++t) {
-          const index_t* v = &m.tri[3 * static_cast<std::size_t>(t)];
-          const Point2 &p0 = m.points[v[0]], &p1 = m.points[v[1]], &p2 = m.points[v[2]];
-          const double area2 = (p1.x - p0.x) * (p2.y - p0.y) - (p1.y - p0.y) * (p2.x - p0.x);
-          const double l0 = ((p2.x - p1.x) * (q.y - p1.y) - (p2.y - p1.y) * (q.x - p1.x)) / area2;
-          const double l1 = ((p0.x - p2.x) * (q.y - p2.y) - (p0.y - p2.y) * (q.x - p2.x)) / area2;
-          const double l2 = 1 - l0 - l1;
-          if (l0 < -1e-9 || l1 < -1e-9 || l2 < -1e-9) continue;
-          ++inside;
-          for (int c = 0; c < C; ++c) {
-            auto z = [&](int k) { return double(values[static_cast<std::size_t>(v[k]) * C + c]); };
-            auto g = [&](int k) { return &gradients[(static_cast<std::size_t>(v[k]) * C + c) * 2]; };
-            const double g0[2] = {g(0)[0], g(0)[1]}, g1[2] = {g(1)[0], g(1)[1]}, g2[2] = {g(2)[0], g(2)[1]};
-            const double patch = eval_cubic_patch(cubic_patch(p0, p1, p2, z(0), z(1), z(2), g0, g1, g2), l0, l1, l2);
-            const double expected = std::clamp(patch, std::min({z(0), z(1), z(2)}), std::max({z(0), z(1), z(2)}));
-            worst = std::max(worst, std::abs(out.at(X, Y, c) - expected));
+  for (bool lattice : {false, true}) {
+    std::vector<Point2> points = test::random_points(60, 31, 10.0);
+    if (lattice) {
+      for (Point2& p : points) p = {std::round(p.x * 64) / 64, std::round(p.y * 64) / 64};
+      std::sort(points.begin(), points.end(), [](const Point2& a, const Point2& b) { return std::tie(a.x, a.y) < std::tie(b.x, b.y); });
+      points.erase(std::unique(points.begin(), points.end(), [](const Point2& a, const Point2& b) { return a.x == b.x && a.y == b.y; }), points.end());
+    }
+    Mesh2 m = delaunay_triangulation(points);
+    const std::vector<float> values = random_values(m.points.size(), C, 31);
+    optimize_lawson(m, values, C, find_cost("sederberg"));
+    std::vector<float> gradients = random_values(m.points.size(), 2 * C, 32);
+    for (float& g : gradients) g = 0.6f * g - 0.3f;
+    for (double scale : lattice ? std::vector<double>{2.0, 4.0, 10.0} : std::vector<double>{1.5, 4.0, 10.0, 13.7}) {
+      CAPTURE(lattice);
+      CAPTURE(scale);
+      RenderGrid grid;
+      grid.width = grid.height = static_cast<int>(10 * scale);
+      grid.scale_x = grid.scale_y = scale;
+      RenderStats stats;
+      const Image out = render_mesh(m, values, C, grid, &stats, false, -1.0f, &gradients);
+      if (scale >= 10) CHECK(stats.power_pieces > 0);
+      if (scale < 2) CHECK(stats.power_pieces == 0);
+      CHECK(stats.bernstein_pieces > 0);
+      // A centre on an edge may go to either triangle (their clamp ranges
+      // differ) or, on the hull, to none (the tie rule): the pixel must
+      // match one of the triangles holding it, or be on an edge.
+      double worst = 0;
+      long long inside = 0;
+      for (int Y = 0; Y < grid.height; ++Y)
+        for (int X = 0; X < grid.width; ++X) {
+          const Point2 q{(X + 0.5) / scale, (Y + 0.5) / scale};
+          double best = std::numeric_limits<double>::infinity();
+          bool on_edge = false;
+          for (index_t t = 0; t < m.triangle_count(); ++t) {
+            const index_t* v = &m.tri[3 * static_cast<std::size_t>(t)];
+            const Point2 &p0 = m.points[v[0]], &p1 = m.points[v[1]], &p2 = m.points[v[2]];
+            const double area2 = (p1.x - p0.x) * (p2.y - p0.y) - (p1.y - p0.y) * (p2.x - p0.x);
+            const double l0 = ((p2.x - p1.x) * (q.y - p1.y) - (p2.y - p1.y) * (q.x - p1.x)) / area2;
+            const double l1 = ((p0.x - p2.x) * (q.y - p2.y) - (p0.y - p2.y) * (q.x - p2.x)) / area2;
+            const double l2 = 1 - l0 - l1;
+            if (l0 < -1e-9 || l1 < -1e-9 || l2 < -1e-9) continue;
+            on_edge |= std::min({l0, l1, l2}) < 1e-9;
+            double error = 0;
+            for (int c = 0; c < C; ++c) {
+              auto z = [&](int k) { return double(values[static_cast<std::size_t>(v[k]) * C + c]); };
+              auto g = [&](int k) { return &gradients[(static_cast<std::size_t>(v[k]) * C + c) * 2]; };
+              const double g0[2] = {g(0)[0], g(0)[1]}, g1[2] = {g(1)[0], g(1)[1]}, g2[2] = {g(2)[0], g(2)[1]};
+              const double patch = eval_cubic_patch(cubic_patch(p0, p1, p2, z(0), z(1), z(2), g0, g1, g2), l0, l1, l2);
+              const double expected = std::clamp(patch, std::min({z(0), z(1), z(2)}), std::max({z(0), z(1), z(2)}));
+              error = std::max(error, std::abs(out.at(X, Y, c) - expected));
+            }
+            best = std::min(best, error);
           }
-          break;
+          if (best == std::numeric_limits<double>::infinity()) continue;  // outside the hull
+          ++inside;
+          if (out.at(X, Y, 0) == -1.0f && on_edge) continue;  // on the hull, left to the outside
+          worst = std::max(worst, best);
         }
-      }
-    CHECK(inside > grid.width * grid.height / 2);
-    CHECK(worst < 1e-6);
+      CHECK(inside > grid.width * grid.height / 2);
+      CHECK(worst < 1e-6);
+    }
   }
 }
 
