@@ -317,10 +317,11 @@ struct Shader {
   // and the clamp to the vertex values (no overshoot, so no ringing beside
   // edges, whatever the gradients say).
   double b[cubic ? max_channels : 1][10], lo[cubic ? max_channels : 1], hi[cubic ? max_channels : 1];
-  // Cubic, a mesh triangle of many pixels: the same patch in power form,
-  // a polynomial in (X, Y) = (x - p0.x, y - p0.y), so that along a row it
-  // is a cubic in X (six operations a pixel instead of twenty). Coefficients
-  // of X^3, X^2, X^2 Y, X, X Y, X Y^2, 1, Y, Y^2, Y^3, by channel.
+  // Cubic, a mesh triangle's piece of many pixels: the same patch in
+  // power form, a polynomial in (X, Y) = (x - p0.x, y - p0.y), so that
+  // along a row it is a cubic in X (six operations a pixel instead of
+  // twenty). Coefficients of X^3, X^2, X^2 Y, X, X Y, X Y^2, 1, Y, Y^2,
+  // Y^3, by channel.
   bool by_power = false;
   double power[cubic ? max_channels : 1][10];
 
@@ -439,9 +440,8 @@ struct Shader {
       a0[c] = v2d{} + (w[6] + (w[7] + (w[8] + w[9] * Y) * Y) * Y);
     }
     int x = xs;
-    v2d X;
     for (; x < xe; x += 2, px += 2 * C) {
-      X = v2d{double(x), double(x + 1)} - p0.x;
+      const v2d X = v2d{double(x), double(x + 1)} - p0.x;
       for (int c = 0; c < C; ++c) {
         const v2d v = ((a3[c] * X + a2[c]) * X + a1[c]) * X + a0[c];
         // std::clamp(v, lo, hi), as in pixel()
