@@ -145,14 +145,18 @@ TEST_CASE("render_mesh cubic: every pixel in the hull is its triangle's Bezier p
   // Pieces of 16 pixels or more take the power form, thin triangles from the
   // optimizer and small pieces the Bernstein form. Points on a 1/64 lattice
   // make every pixel coordinate exact at scales 2, 4 and 10 (the paired
-  // Bernstein path); arbitrary points and x13.7 take the inexact one.
-  const int C = 3;
-  for (bool lattice : {false, true}) {
+  // Bernstein path); arbitrary points and x13.7 take the inexact one. Each
+  // channel count has its own instantiation (1, 3, 4; others at run time).
+  const std::vector<std::pair<int, bool>> cases = {{3, false}, {3, true}, {1, true}, {4, false}, {2, true}};
+  for (const auto& [C, lattice] : cases) {
+    CAPTURE(C);
     std::vector<Point2> points = test::random_points(60, 31, 10.0);
     if (lattice) {
+      auto less = [](const Point2& a, const Point2& b) { return std::tie(a.x, a.y) < std::tie(b.x, b.y); };
+      auto same = [](const Point2& a, const Point2& b) { return a.x == b.x && a.y == b.y; };
       for (Point2& p : points) p = {std::round(p.x * 64) / 64, std::round(p.y * 64) / 64};
-      std::sort(points.begin(), points.end(), [](const Point2& a, const Point2& b) { return std::tie(a.x, a.y) < std::tie(b.x, b.y); });
-      points.erase(std::unique(points.begin(), points.end(), [](const Point2& a, const Point2& b) { return a.x == b.x && a.y == b.y; }), points.end());
+      std::sort(points.begin(), points.end(), less);
+      points.erase(std::unique(points.begin(), points.end(), same), points.end());
     }
     Mesh2 m = delaunay_triangulation(points);
     const std::vector<float> values = random_values(m.points.size(), C, 31);
