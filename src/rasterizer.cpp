@@ -439,25 +439,25 @@ struct Shader {
       a3[c] = v2d{} + w[0], a2[c] = v2d{} + (w[1] + w[2] * Y), a1[c] = v2d{} + (w[3] + (w[4] + w[5] * Y) * Y);
       a0[c] = v2d{} + (w[6] + (w[7] + (w[8] + w[9] * Y) * Y) * Y);
     }
-    int x = xs;
-    for (; x < xe; x += 2, px += 2 * C) {
+    // Pixels x and x + 1 at `at`; an odd last pixel is a pair's first lane.
+    auto pixels = [&](int x, float* at, bool both) {
       const v2d X = v2d{double(x), double(x + 1)} - p0.x;
       for (int c = 0; c < C; ++c) {
-        const v2d v = ((a3[c] * X + a2[c]) * X + a1[c]) * X + a0[c];
-        // std::clamp(v, lo, hi), as in pixel()
-        const v2d vlo = {lo[c], lo[c]}, vhi = {hi[c], hi[c]};
-        const v2d r1 = v < vlo ? vlo : v;
-        const v2d r = vhi < r1 ? vhi : r1;
-        px[c] = static_cast<float>(r[0]);
-        px[C + c] = static_cast<float>(r[1]);
+        const v2d r = clamp_pair(((a3[c] * X + a2[c]) * X + a1[c]) * X + a0[c], c);
+        at[c] = static_cast<float>(r[0]);
+        if (both) at[C + c] = static_cast<float>(r[1]);
       }
-    }
-    if (x == xe)
-      for (int c = 0; c < C; ++c) {
-        const double X1 = x - p0.x;
-        const double v = ((a3[c][0] * X1 + a2[c][0]) * X1 + a1[c][0]) * X1 + a0[c][0];
-        px[c] = static_cast<float>(std::clamp(v, lo[c], hi[c]));
-      }
+    };
+    int x = xs;
+    for (; x < xe; x += 2, px += 2 * C) pixels(x, px, true);
+    if (x == xe) pixels(x, px, false);
+  }
+  // std::clamp(v, lo[c], hi[c]) in both lanes (v < lo ? lo : hi < v ? hi : v),
+  // as pixel() does it.
+  v2d clamp_pair(v2d v, int c) const {
+    const v2d vlo = {lo[c], lo[c]}, vhi = {hi[c], hi[c]};
+    const v2d r1 = v < vlo ? vlo : v;
+    return vhi < r1 ? vhi : r1;
   }
   // Linear: pixels xs..xe of row Y.
   void row(double Y, int xs, int xe, float* px) const {
@@ -491,10 +491,7 @@ struct Shader {
       const double* bc = b[c];
       const v2d v = ((bc[0] * m[0] + bc[1] * m[1]) + (bc[2] * m[2] + bc[3] * m[3])) +
                     ((bc[4] * m[4] + bc[5] * m[5]) + (bc[6] * m[6] + bc[7] * m[7])) + (bc[8] * m[8] + bc[9] * m[9]);
-      // std::clamp(v, lo, hi): v < lo ? lo : hi < v ? hi : v
-      const v2d vlo = {lo[c], lo[c]}, vhi = {hi[c], hi[c]};
-      const v2d r1 = v < vlo ? vlo : v;
-      const v2d r = vhi < r1 ? vhi : r1;
+      const v2d r = clamp_pair(v, c);
       px[c] = static_cast<float>(r[0]);
       qx[c] = static_cast<float>(r[1]);
     }
