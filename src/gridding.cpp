@@ -66,8 +66,7 @@ void hull_spans(const Mesh2& mesh, const RenderGrid& grid, double tol, std::vect
   };
   std::vector<Edge> edges;
   double top = INFINITY, bottom = -INFINITY;
-  for (index_t e = 0; e < mesh.half_edge_count(); ++e) {
-    if (mesh.opp[e] != no_edge) continue;
+  for (index_t e : hull_half_edges(mesh)) {
     const Edge ed{to_pixel(mesh.points[mesh.tri[e]]), to_pixel(mesh.points[mesh.tri[next_edge(e)]])};
     top = std::min(top, ed.u.y);
     bottom = std::max(bottom, ed.u.y);
