@@ -436,8 +436,8 @@ struct Shader {
     v2d a0[max_channels], a1[max_channels], a2[max_channels], a3[max_channels];
     for (int c = 0; c < C; ++c) {
       const double* w = power[c];
-      a3[c] = v2d{} + w[0], a2[c] = v2d{} + (w[1] + w[2] * Y), a1[c] = v2d{} + (w[3] + (w[4] + w[5] * Y) * Y);
-      a0[c] = v2d{} + (w[6] + (w[7] + (w[8] + w[9] * Y) * Y) * Y);
+      const double k2 = w[1] + w[2] * Y, k1 = w[3] + (w[4] + w[5] * Y) * Y, k0 = w[6] + (w[7] + (w[8] + w[9] * Y) * Y) * Y;
+      a3[c] = v2d{w[0], w[0]}, a2[c] = v2d{k2, k2}, a1[c] = v2d{k1, k1}, a0[c] = v2d{k0, k0};
     }
     // Pixels x and x + 1 at `at`; an odd last pixel is a pair's first lane.
     auto pixels = [&](int x, float* at, bool both) {
