@@ -48,6 +48,12 @@ struct RenderGrid {
   // first_row, and every pixel the value it has in the whole grid, bit for
   // bit (tiled rendering, upscale.hpp).
   int first_row = 0, rows = -1;
+  // Lattice meshes (every vertex at the same fractional position in output
+  // pixels, as pixel centres at integer scales): draw the mesh's triangles
+  // from the pixel lists of their shapes instead of walking them; same
+  // pixels, same bits, faster at small scales. false: always walk (tests,
+  // the benchmark's comparison).
+  bool by_shapes = true;
 };
 
 struct RenderStats {
@@ -59,6 +65,10 @@ struct RenderStats {
   // patch's power form and from its Bernstein form.
   long long power_pieces = 0;
   long long bernstein_pieces = 0;
+  // Lattice meshes drawn by shape: the mesh triangles so drawn, and the
+  // distinct shapes kept (triangles of other shapes build theirs each).
+  long long shaped_triangles = 0;
+  long long shapes = 0;
 };
 
 // Cubic mode (gradients given): each triangle carries the cubic Bézier

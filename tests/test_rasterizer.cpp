@@ -7,6 +7,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <tuple>
 
@@ -291,4 +292,75 @@ TEST_CASE("render_mesh: collinear samples interpolate along their line") {
   Mesh2 single = delaunay_triangulation(test::grid_points(1, 1));
   const Image one = render_mesh(single, {0.25f}, 1, grid_for(1, 1, 5, 5));
   for (float v : one.pixels) CHECK(v == 0.25f);
+}
+
+TEST_CASE("render_mesh: a lattice mesh drawn by shape equals the walked one, bit for bit") {
+  // An optimized grid (thin triangles of many shapes) and a random third
+  // of the lattice (long edges: at x10 offsets beyond the shape table's).
+  const int w = 23, h = 17;
+  std::vector<Mesh2> meshes;
+  {
+    Mesh2 m = delaunay_triangulation(test::grid_points(w, h));
+    std::vector<float> edge;  // a slanted step with noise: flips along it
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> noise(0.0f, 0.1f);
+    for (const Point2& p : m.points) edge.push_back((p.x + 0.4 * p.y > 12 ? 0.8f : 0.2f) + noise(rng));
+    optimize_lawson(m, edge, 1, find_cost("sederberg"));
+    meshes.push_back(std::move(m));
+    std::vector<Point2> subset;
+    for (const Point2& p : test::grid_points(w, h))
+      if (rng() % 3 == 0) subset.push_back(p);
+    meshes.push_back(delaunay_triangulation(subset));
+  }
+  struct Case {
+    double scale, origin;  // origins 2 and -1.5: the mesh runs off the image
+    bool lattice;  // exact, every vertex at the same fractional position
+  };
+  const Case cases[] = {{1, 0, true}, {2, 0, true}, {3, 0, true}, {4, 0, true}, {10, 0, true},
+                        {4, 0.25, true}, {4, 2, true}, {3, -1.5, true}, {2.5, 0, false}, {4, 0.3, false}};
+  int shaped = 0;
+  for (std::size_t mi = 0; mi < meshes.size(); ++mi)
+    for (int C : {1, 2, 3, 4})
+      for (bool cubic : {false, true})
+        for (const Case& k : cases)
+          for (bool fill_outside : {true, false})
+            for (bool window : {false, true}) {
+              CAPTURE(mi);
+              CAPTURE(C);
+              CAPTURE(cubic);
+              CAPTURE(k.scale);
+              CAPTURE(k.origin);
+              CAPTURE(fill_outside);
+              CAPTURE(window);
+              const Mesh2& m = meshes[mi];
+              const std::vector<float> values = random_values(m.points.size(), C, 11);
+              std::vector<float> gradients = random_values(m.points.size(), 2 * C, 12);
+              for (float& g : gradients) g -= 0.5f;
+              RenderGrid g;
+              g.width = static_cast<int>(w * k.scale), g.height = static_cast<int>(h * k.scale);
+              g.scale_x = g.scale_y = k.scale;
+              g.origin_x = g.origin_y = k.origin;
+              int out_row = 0;
+              if (window) g.first_row = 5, g.rows = g.height / 2, out_row = 2;
+              const int rows = window ? g.rows : g.height;
+              Image by_shape(g.width, rows + out_row, C, -1.0f), walked = by_shape;
+              RenderStats shape_stats, walk_stats;
+              render_mesh_into(by_shape, out_row, m, values, C, g, &shape_stats, fill_outside,
+                               cubic ? &gradients : nullptr);
+              g.by_shapes = false;
+              render_mesh_into(walked, out_row, m, values, C, g, &walk_stats, fill_outside,
+                               cubic ? &gradients : nullptr);
+              const bool expect_shapes = k.lattice && k.scale * k.scale <= (cubic ? 16 : 100);
+              CHECK(shape_stats.shaped_triangles == (expect_shapes ? m.triangle_count() : 0));
+              CHECK(walk_stats.shaped_triangles == 0);
+              shaped += expect_shapes;
+              REQUIRE(by_shape.pixels.size() == walked.pixels.size());
+              CHECK(std::memcmp(by_shape.pixels.data(), walked.pixels.data(), by_shape.pixels.size() * sizeof(float)) ==
+                    0);
+              CHECK(shape_stats.uncovered == walk_stats.uncovered);
+              CHECK(shape_stats.overcovered == 0);
+              CHECK(shape_stats.power_pieces == walk_stats.power_pieces);
+              CHECK(shape_stats.bernstein_pieces == walk_stats.bernstein_pieces);
+            }
+  CHECK(shaped > 100);
 }
