@@ -276,14 +276,12 @@ std::string mb(long kb) { return format("%.0f MB", kb / 1024.0); }
 // Linear only: the cubic's cost has no such form, since its patches are set
 // up only for triangles that own pixels (fewer at x1) and its large
 // triangles take their power form from about x5.7 (rasterizer.cpp).
-std::string render_cost_model(const std::map<std::pair<bool, double>, double>& cpu_seconds, long long triangles,
-                              int n) {
+std::string render_cost_model(const std::map<double, double>& cpu_seconds, long long triangles, int n) {
   Table t{{"render (1 thread)", "per triangle", "per triangle row", "per output pixel", "x4: mesh + rows / pixels",
            "x4 bound with free pixels"},
           {}};
   std::vector<std::pair<double, double>> samples;  // (scale, seconds)
-  for (const auto& [key, seconds] : cpu_seconds)
-    if (!key.first) samples.emplace_back(key.second, seconds);
+  for (const auto& [scale, seconds] : cpu_seconds) samples.emplace_back(scale, seconds);
   if (samples.size() < 3) return "";
   Eigen::MatrixXd A(samples.size(), 3);
   Eigen::VectorXd b(samples.size());
@@ -295,13 +293,14 @@ std::string render_cost_model(const std::map<std::pair<bool, double>, double>& c
   const Eigen::Vector3d x = A.colPivHouseholderQr().solve(b);
   const double pixels_at_1 = double(n) * n;
   const double fixed_x4 = x(0) + 4 * x(1), pixels_x4 = 16 * x(2);
-  t.rows.push_back({"linear", format("%.0f ns", x(0) / triangles * 1e9),
+  t.rows.push_back({"linear, walked", format("%.0f ns", x(0) / triangles * 1e9),
                     format("%.1f ns x s", x(1) / triangles * 1e9), format("%.1f ns", x(2) / pixels_at_1 * 1e9),
                     format("%.3f s", fixed_x4) + format(" / %.3f s", pixels_x4),
                     format("%.0f Mpix/s", 16 * pixels_at_1 / fixed_x4 / 1e6)});
   return "Render cost model: one-thread CPU seconds at x1, x2, x4, x10 fitted as mesh + rows s + pixels s^2 "
-         "(least squares; " + std::to_string(triangles) + " triangles; the linear render only, the cubic's cost "
-         "changes form between scales). \"x4 bound\" is the throughput at x4 if writing pixels cost nothing.\n\n" +
+         "(least squares; " + std::to_string(triangles) + " triangles; the walked linear render only: drawn by "
+         "shape it has no rows, and the cubic's cost changes form between scales). \"x4 bound\" is the "
+         "throughput at x4 if writing pixels cost nothing.\n\n" +
          t.str() + "\n";
 }
 
@@ -475,15 +474,20 @@ int main(int argc, char** argv) {
                                 " flips, " + std::to_string(st.tests) + " tests)"});
       }
       const std::vector<float> gradients = grid_gradients(base, SlopeLimiter::mc4);
-      // One-thread CPU seconds by (cubic, scale), for the cost model below.
-      std::map<std::pair<bool, double>, double> one_thread_cpu;
+      // One-thread CPU seconds of the walked linear render by scale, for the
+      // cost model below.
+      std::map<double, double> walked_linear_cpu;
       for (double scale : {1.0, 2.0, 4.0, 10.0})
-        for (bool cubic : {false, true}) {
+        for (int mode = 0; mode < 4; ++mode) {
+          // linear, cubic (each drawn by shape where that pays), and both walked
+          const bool cubic = mode % 2 == 1, walked = mode >= 2;
           RenderGrid g;
           g.width = g.height = static_cast<int>(1024 * scale);
           g.scale_x = g.scale_y = scale;
+          g.by_shapes = !walked;
           Image out(g.width, g.height, 3);  // allocated and touched once, outside the timing
           for (int threads : {1, static_cast<int>(cores)}) {
+            if (walked && threads > 1) continue;
             tbb::global_control gc(tbb::global_control::max_allowed_parallelism, threads);
             double best = 1e9, best_cpu = 1e9;
             for (int r = 0; r < 3; ++r) {
@@ -491,17 +495,17 @@ int main(int argc, char** argv) {
               render_mesh_into(out, 0, optimized, base.pixels, 3, g, nullptr, true, cubic ? &gradients : nullptr);
               best = std::min(best, now() - t0), best_cpu = std::min(best_cpu, cpu_now() - c0);
             }
-            if (threads == 1) one_thread_cpu[{cubic, scale}] = best_cpu;
+            if (walked && !cubic) walked_linear_cpu[scale] = best_cpu;
             const double mpix = double(g.width) * g.height / 1e6;
             tri.rows.push_back({std::string("render ") + (cubic ? "cubic" : "linear") + " x" + format("%g", scale) +
-                                    " (RGB float, into an allocated image)",
+                                    (walked ? " walked (by_shapes off)" : "") + " (RGB float, into an allocated image)",
                                 std::to_string(threads), format("%.3f", best),
                                 format("%.0f Mpix/s", mpix / best) + format(" = %.0f Mpix/s per core", mpix / best / threads) +
                                     format("; CPU %.3f s", best_cpu) + format(" = %.0f Mpix per CPU second", mpix / best_cpu)});
           }
         }
       emit("## Stages alone (in process, best of 3)\n\n" + tri.str() + "\n");
-      emit(render_cost_model(one_thread_cpu, optimized.triangle_count(), 1024));
+      emit(render_cost_model(walked_linear_cpu, optimized.triangle_count(), 1024));
     }
 
     // Large input.

@@ -464,20 +464,16 @@ struct Shader {
   // Linear: pixels xs..xe of row Y.
   void row(double Y, int xs, int xe, float* px) const {
     double base[max_channels];
-    row_start(Y, xs, base);
+    for (int c = 0; c < C; ++c) base[c] = v0[c] + (Y - p0.y) * sy[c] + (xs - p0.x) * sx[c];
     for (int x = xs; x <= xe; ++x, px += C) {
       const double dx = x - xs;
       for (int c = 0; c < C; ++c) px[c] = static_cast<float>(base[c] + dx * sx[c]);
     }
   }
-  // Linear, as row() draws: the values at pixel xs of row Y, then at
-  // xs + dx from them.
-  void row_start(double Y, int xs, double* base) const {
-    for (int c = 0; c < C; ++c) base[c] = v0[c] + (Y - p0.y) * sy[c] + (xs - p0.x) * sx[c];
-  }
-  void row_step(const double* base, int dx, float* px) const {
-    const double d = dx;
-    for (int c = 0; c < C; ++c) px[c] = static_cast<float>(base[c] + d * sx[c]);
+  // Linear: one pixel as row() draws it, from dy = Y - p0.y, dxs = xs - p0.x
+  // and dx = x - xs (the same operations in the same order).
+  void placed_pixel(double dy, double dxs, double dx, float* px) const {
+    for (int c = 0; c < C; ++c) px[c] = static_cast<float>((v0[c] + dy * sy[c] + dxs * sx[c]) + dx * sx[c]);
   }
   // Cubic: one pixel from its barycentric weights.
   void pixel(double l0, double l1, double l2, float* px) const {
@@ -744,12 +740,19 @@ struct Shape {
   // [xs, xe) of row oy, every row the triangle crosses, top to bottom;
   // pixels (ox, oy, xs of their row) in reading order.
   std::vector<std::array<int, 3>> rows, pixels;
-  std::vector<std::array<int, 2>> flat;  // (index in rows, x - xs) of each pixel
+  // Each pixel as the linear render needs it: Y - p0.y and xs - p0.x (exact,
+  // so equal to the walk's), x - xs, and its offset in the image's floats.
+  struct Placed {
+    double dy, dxs, dx;
+    std::ptrdiff_t offset;
+  };
+  std::vector<Placed> placed;
   int min_ox = 0, max_ox = 0, min_oy = 0, max_oy = 0;  // bounds of the pixels
 };
 
 // d1 = p1 - p0, d2 = p2 - p0 (whole pixels), phase = p0 - floor(p0).
-Shape build_shape(const int d1[2], const int d2[2], const Point2& phase) {
+// Images row_floats floats a row, C a pixel.
+Shape build_shape(const int d1[2], const int d2[2], const Point2& phase, std::ptrdiff_t row_floats, int C) {
   // Local coordinates, all at least 1 (first_right clamps below 0).
   const int ox = 1 - std::min({0, d1[0], d2[0]}), oy = 1 - std::min({0, d1[1], d2[1]});
   const Point2 q[3] = {{phase.x + ox, phase.y + oy},
@@ -774,7 +777,7 @@ Shape build_shape(const int d1[2], const int d2[2], const Point2& phase) {
     if (xe == xs) continue;
     for (int x = xs; x < xe; ++x) {
       shape.pixels.push_back({x, row, xs});
-      shape.flat.push_back({static_cast<int>(shape.rows.size()) - 1, x - xs});
+      shape.placed.push_back({row - phase.y, xs - phase.x, double(x - xs), row * row_floats + std::ptrdiff_t(x) * C});
     }
     if (first) shape.min_ox = xs, shape.max_ox = xe - 1, shape.min_oy = row, first = false;
     shape.min_ox = std::min(shape.min_ox, xs), shape.max_ox = std::max(shape.max_ox, xe - 1), shape.max_oy = row;
@@ -786,7 +789,7 @@ Shape build_shape(const int d1[2], const int d2[2], const Point2& phase) {
 // lock (a slot's shape is published before its key), insertions under one.
 class ShapeTable {
  public:
-  ShapeTable() : slots_(capacity) {}
+  ShapeTable(std::ptrdiff_t row_floats, int C) : slots_(capacity), row_floats_(row_floats), C_(C) {}
   // The shape of (d1, d2), built on first use; nullptr when it is too large
   // to keep or the table is full (the caller builds it for itself).
   const Shape* find(const int d1[2], const int d2[2], const Point2& phase) {
@@ -808,12 +811,15 @@ class ShapeTable {
       if (k == 0) break;
     }
     if (4 * (shapes_.size() + 1) > 3 * capacity) return nullptr;
-    shapes_.push_back(build_shape(d1, d2, phase));
+    shapes_.push_back(build(d1, d2, phase));
     slots_[h].shape.store(&shapes_.back(), std::memory_order_release);
     slots_[h].key.store(key, std::memory_order_release);
     return &shapes_.back();
   }
   std::size_t size() const { return shapes_.size(); }
+  Shape build(const int d1[2], const int d2[2], const Point2& phase) const {
+    return build_shape(d1, d2, phase, row_floats_, C_);
+  }
 
  private:
   static constexpr int capacity_bits = 14, max_offset = 64;
@@ -825,6 +831,8 @@ class ShapeTable {
   std::vector<Slot> slots_;
   std::deque<Shape> shapes_;  // stable addresses
   std::mutex mutex_;
+  std::ptrdiff_t row_floats_;
+  int C_;
 };
 
 // Draws mesh triangle t of a lattice mesh from its shape: rows [row0, row1)
@@ -832,8 +840,7 @@ class ShapeTable {
 template <int CT, bool cubic>
 void draw_by_shape(const Scene& scene, index_t t, ShapeTable& table, const Point2& phase,
                    const std::vector<int>& group_of_row, int row0, int row1, int shift, Image& out,
-                   Shape& own, std::vector<int>& left, std::vector<int>& right, std::vector<double>& base,
-                   std::vector<float*>& start, DrawCounts& counts) {
+                   Shape& own, std::vector<int>& left, std::vector<int>& right, DrawCounts& counts) {
   index_t id[3];
   Point2 p[3];
   scene.corners(t, id);
@@ -843,7 +850,7 @@ void draw_by_shape(const Scene& scene, index_t t, ShapeTable& table, const Point
   const int d1[2] = {static_cast<int>(p[1].x - p[0].x), static_cast<int>(p[1].y - p[0].y)};
   const int d2[2] = {static_cast<int>(p[2].x - p[0].x), static_cast<int>(p[2].y - p[0].y)};
   const Shape* shape = table.find(d1, d2, phase);
-  if (!shape) own = build_shape(d1, d2, phase), shape = &own;
+  if (!shape) own = table.build(d1, d2, phase), shape = &own;
   if (shape->pixels.empty() || by + shape->max_oy < row0 || by + shape->min_oy >= row1) return;
   const int W = out.width;
   const bool clipped = bx + shape->min_ox < 0 || bx + shape->max_ox >= W || by + shape->min_oy < row0 ||
@@ -853,38 +860,20 @@ void draw_by_shape(const Scene& scene, index_t t, ShapeTable& table, const Point
     const double area2 = (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[1].y - p[0].y) * (p[2].x - p[0].x);
     shader.init(scene, t, id, p[0], p[1], p[2], area2, 0);
     long long drawn = 0;
-    if (!clipped && shape->flat.size() < 4 * shape->rows.size()) {
-      // Short rows (small scales): each pixel from scratch, in one loop (a
-      // loop per row of 1 to 4 pixels costs a mispredicted exit each).
-      for (const auto& [ox, oy, xs] : shape->pixels) {
-        double row_base[max_channels];
-        shader.row_start(by + oy, bx + xs, row_base);
-        shader.row_step(row_base, ox - xs, &out.pixels[out.index(bx + ox, by + oy - shift)]);
-      }
-      drawn = static_cast<long long>(shape->pixels.size());
-    } else if (!clipped) {
-      // Longer rows: each row's start value and address first, then the
-      // pixels in one loop.
-      const int C = shader.C;
-      const std::size_t n_rows = shape->rows.size();
-      base.resize(n_rows * C), start.resize(n_rows);
-      for (std::size_t r = 0; r < n_rows; ++r) {
-        const auto& [oy, xs, xe] = shape->rows[r];
-        shader.row_start(by + oy, bx + xs, &base[r * C]);
-        start[r] = &out.pixels[out.index(bx + xs, by + oy - shift)];
-      }
-      for (const auto& [r, dx] : shape->flat) shader.row_step(&base[r * C], dx, start[r] + dx * C);
-      drawn = static_cast<long long>(shape->flat.size());
+    if (!clipped) {
+      // One loop over the pixels, no loop per row: rows of 1 to 4 pixels
+      // (small scales) cost a mispredicted exit each.
+      float* const at = &out.pixels[out.index(bx, by - shift)];
+      for (const Shape::Placed& q : shape->placed) shader.placed_pixel(q.dy, q.dxs, q.dx, at + q.offset);
+      drawn = static_cast<long long>(shape->placed.size());
     } else {
       for (const auto& [ox, oy, xs] : shape->pixels) {
         const int x = bx + ox, y = by + oy;
         if (x < 0 || x >= W || y < row0 || y >= row1) continue;
         // The walk clamps a row's first pixel to the image, and the row's
         // values are stepped from it.
-        double row_base[max_channels];
         const int first = std::max(bx + xs, 0);
-        shader.row_start(y, first, row_base);
-        shader.row_step(row_base, x - first, &out.pixels[out.index(x, y - shift)]);
+        shader.placed_pixel(y - p[0].y, first - p[0].x, x - first, &out.pixels[out.index(x, y - shift)]);
         ++drawn;
       }
     }
@@ -1068,7 +1057,7 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
 
   constexpr index_t shape_chunk = 1 << 12;  // triangles
   const int shape_chunks = by_shape ? static_cast<int>((scene.T + shape_chunk - 1) / shape_chunk) : 0;
-  ShapeTable shapes;
+  ShapeTable shapes(static_cast<std::ptrdiff_t>(grid.width) * C, C);
   if (progress) progress->begin("render", groups + shape_chunks);
   std::atomic<long long> drawn{0}, overlap{0}, power_pieces{0}, bernstein_pieces{0};
   auto draw_groups = [&](auto channels, auto cubic) {
@@ -1114,13 +1103,11 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
     tbb::parallel_for(tbb::blocked_range<int>(0, shape_chunks), [&](const tbb::blocked_range<int>& range) {
       Shape own;  // a shape not kept in the table
       std::vector<int> left, right;
-      std::vector<double> base;
-      std::vector<float*> start;
       DrawCounts counts;
       const index_t t0 = range.begin() * shape_chunk, t1 = std::min<index_t>(scene.T, range.end() * shape_chunk);
       for (index_t t = t0; t < t1; ++t)
-        draw_by_shape<CT, is_cubic>(scene, t, shapes, phase, group_of_row, row0, row1, shift, out, own, left, right, base,
-                                    start, counts);
+        draw_by_shape<CT, is_cubic>(scene, t, shapes, phase, group_of_row, row0, row1, shift, out, own, left, right,
+                                    counts);
       drawn += counts.pixels;
       power_pieces += counts.power_pieces, bernstein_pieces += counts.bernstein_pieces;
       if (progress) progress->add(range.size());
