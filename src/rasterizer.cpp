@@ -16,6 +16,7 @@
 #include <limits>
 #include <mutex>
 #include <numeric>
+#include <optional>
 #include <type_traits>
 
 namespace ddt {
@@ -480,6 +481,10 @@ struct Shader {
     const double l00 = l0 * l0, l11 = l1 * l1, l22 = l2 * l2;
     const double m[10] = {l00 * l0, l11 * l1, l22 * l2, l00 * l1, l0 * l11, l11 * l2, l1 * l22, l0 * l22, l00 * l2,
                           l0 * l1 * l2};
+    monomial_pixel(m, px);
+  }
+  // Cubic: one pixel from its monomials m (pixel()'s), clamped.
+  void monomial_pixel(const double* m, float* px) const {
     for (int c = 0; c < C; ++c) {
       const double* bc = b[c];
       // A balanced sum: short dependency chains.
@@ -494,6 +499,10 @@ struct Shader {
     const v2d l00 = l0 * l0, l11 = l1 * l1, l22 = l2 * l2;
     const v2d m[10] = {l00 * l0, l11 * l1, l22 * l2, l00 * l1, l0 * l11, l11 * l2, l1 * l22, l0 * l22, l00 * l2,
                        l0 * l1 * l2};
+    monomial_pair(m, px, qx);
+  }
+  // Cubic: two pixels from their monomials, lane by lane as monomial_pixel().
+  void monomial_pair(const v2d* m, float* px, float* qx) const {
     for (int c = 0; c < C; ++c) {
       const double* bc = b[c];
       const v2d v = ((bc[0] * m[0] + bc[1] * m[1]) + (bc[2] * m[2] + bc[3] * m[3])) +
@@ -747,12 +756,18 @@ struct Shape {
     std::ptrdiff_t offset;
   };
   std::vector<Placed> placed;
+  // Cubic: where each row's pixels start in `placed` (one more entry than
+  // rows), and each pixel's Bernstein monomials as pixel() computes them
+  // (from exact edge functions and 1 / area2, so the walk's bits).
+  std::vector<std::size_t> row_first;
+  std::vector<std::array<double, 10>> monomials;
   int min_ox = 0, max_ox = 0, min_oy = 0, max_oy = 0;  // bounds of the pixels
 };
 
 // d1 = p1 - p0, d2 = p2 - p0 (whole pixels), phase = p0 - floor(p0).
 // Images row_floats floats a row, C a pixel.
-Shape build_shape(const int d1[2], const int d2[2], const Point2& phase, std::ptrdiff_t row_floats, int C) {
+Shape build_shape(const int d1[2], const int d2[2], const Point2& phase, std::ptrdiff_t row_floats, int C,
+                  bool cubic) {
   // Local coordinates, all at least 1 (first_right clamps below 0).
   const int ox = 1 - std::min({0, d1[0], d2[0]}), oy = 1 - std::min({0, d1[1], d2[1]});
   const Point2 q[3] = {{phase.x + ox, phase.y + oy},
@@ -762,6 +777,7 @@ Shape build_shape(const int d1[2], const int d2[2], const Point2& phase, std::pt
   constexpr int unbounded = 1 << 30;
   Shape shape;
   bool first = true;
+  const double inv_area2 = 1.0 / ((q[1].x - q[0].x) * (q[2].y - q[0].y) - (q[1].y - q[0].y) * (q[2].x - q[0].x));
   // Rows y_min <= Y < y_max, as the walk crosses them: one downward edge
   // (its left side is the triangle) and one upward edge (reversed: its
   // right side is).
@@ -774,14 +790,27 @@ Shape build_shape(const int d1[2], const int d2[2], const Point2& phase, std::pt
     }
     const int row = Y - oy, xs = left - ox, xe = std::max(right, left) - ox;
     shape.rows.push_back({row, xs, xe});  // empty rows too: pieces are runs of rows
+    shape.row_first.push_back(shape.placed.size());
     if (xe == xs) continue;
     for (int x = xs; x < xe; ++x) {
       shape.pixels.push_back({x, row, xs});
       shape.placed.push_back({row - phase.y, xs - phase.x, double(x - xs), row * row_floats + std::ptrdiff_t(x) * C});
+      if (cubic) {
+        double e[3];  // edge functions of p_k -> p_(k+1) at the pixel centre, as draw_bernstein()
+        for (int k = 0; k < 3; ++k) {
+          const Point2 &u = q[k], &v = q[(k + 1) % 3];
+          e[k] = (v.x - u.x) * (Y - u.y) - (v.y - u.y) * (x + ox - u.x);
+        }
+        const double l0 = e[1] * inv_area2, l1 = e[2] * inv_area2, l2 = e[0] * inv_area2;
+        const double l00 = l0 * l0, l11 = l1 * l1, l22 = l2 * l2;
+        shape.monomials.push_back({l00 * l0, l11 * l1, l22 * l2, l00 * l1, l0 * l11, l11 * l2, l1 * l22, l0 * l22,
+                                   l00 * l2, l0 * l1 * l2});
+      }
     }
     if (first) shape.min_ox = xs, shape.max_ox = xe - 1, shape.min_oy = row, first = false;
     shape.min_ox = std::min(shape.min_ox, xs), shape.max_ox = std::max(shape.max_ox, xe - 1), shape.max_oy = row;
   }
+  shape.row_first.push_back(shape.placed.size());
   return shape;
 }
 
@@ -789,7 +818,8 @@ Shape build_shape(const int d1[2], const int d2[2], const Point2& phase, std::pt
 // lock (a slot's shape is published before its key), insertions under one.
 class ShapeTable {
  public:
-  ShapeTable(std::ptrdiff_t row_floats, int C) : slots_(capacity), row_floats_(row_floats), C_(C) {}
+  ShapeTable(std::ptrdiff_t row_floats, int C, bool cubic)
+      : slots_(capacity), row_floats_(row_floats), C_(C), cubic_(cubic) {}
   // The shape of (d1, d2), built on first use; nullptr when it is too large
   // to keep or the table is full (the caller builds it for itself).
   const Shape* find(const int d1[2], const int d2[2], const Point2& phase) {
@@ -818,7 +848,7 @@ class ShapeTable {
   }
   std::size_t size() const { return shapes_.size(); }
   Shape build(const int d1[2], const int d2[2], const Point2& phase) const {
-    return build_shape(d1, d2, phase, row_floats_, C_);
+    return build_shape(d1, d2, phase, row_floats_, C_, cubic_);
   }
 
  private:
@@ -833,6 +863,7 @@ class ShapeTable {
   std::mutex mutex_;
   std::ptrdiff_t row_floats_;
   int C_;
+  bool cubic_;
 };
 
 // Draws mesh triangle t of a lattice mesh from its shape: rows [row0, row1)
@@ -897,7 +928,23 @@ void draw_by_shape(const Scene& scene, index_t t, ShapeTable& table, const Point
       }
       if (pixels > 0) {
         const Piece<CT, true> piece(scene, t, id, p, true, pixels);
-        piece.draw(y, static_cast<int>(j - i), left.data(), right.data(), out, shift);
+        const std::size_t first = shape->row_first[i], end = shape->row_first[j];
+        if (!piece.shader.by_power && !(clipped && pixels != static_cast<long long>(end - first))) {
+          // The Bernstein form from the shape's monomials, pixels paired in
+          // reading order (as draw_bernstein; pairing leaves the bits alone).
+          float* const at = &out.pixels[out.index(bx, by - shift)];
+          const auto& q = shape->placed;
+          const auto& m = shape->monomials;
+          std::size_t k = first;
+          for (; k + 1 < end; k += 2) {
+            v2d pair[10];
+            for (int n = 0; n < 10; ++n) pair[n] = v2d{m[k][n], m[k + 1][n]};
+            piece.shader.monomial_pair(pair, at + q[k].offset, at + q[k + 1].offset);
+          }
+          if (k < end) piece.shader.monomial_pixel(m[k].data(), at + q[k].offset);
+        } else {
+          piece.draw(y, static_cast<int>(j - i), left.data(), right.data(), out, shift);
+        }
         counts.pixels += pixels;
         ++(piece.shader.by_power ? counts.power_pieces : counts.bernstein_pieces);
       }
@@ -1057,7 +1104,8 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
 
   constexpr index_t shape_chunk = 1 << 12;  // triangles
   const int shape_chunks = by_shape ? static_cast<int>((scene.T + shape_chunk - 1) / shape_chunk) : 0;
-  ShapeTable shapes(static_cast<std::ptrdiff_t>(grid.width) * C, C);
+  std::optional<ShapeTable> shapes;  // 256 KB of slots: only when used
+  if (by_shape) shapes.emplace(static_cast<std::ptrdiff_t>(grid.width) * C, C, gradients != nullptr);
   if (progress) progress->begin("render", groups + shape_chunks);
   std::atomic<long long> drawn{0}, overlap{0}, power_pieces{0}, bernstein_pieces{0};
   auto draw_groups = [&](auto channels, auto cubic) {
@@ -1106,7 +1154,7 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
       DrawCounts counts;
       const index_t t0 = range.begin() * shape_chunk, t1 = std::min<index_t>(scene.T, range.end() * shape_chunk);
       for (index_t t = t0; t < t1; ++t)
-        draw_by_shape<CT, is_cubic>(scene, t, shapes, phase, group_of_row, row0, row1, shift, out, own, left, right,
+        draw_by_shape<CT, is_cubic>(scene, t, *shapes, phase, group_of_row, row0, row1, shift, out, own, left, right,
                                     counts);
       drawn += counts.pixels;
       power_pieces += counts.power_pieces, bernstein_pieces += counts.bernstein_pieces;
@@ -1123,7 +1171,7 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
   local.overcovered = overlap;
   local.power_pieces = power_pieces, local.bernstein_pieces = bernstein_pieces;
   local.shaped_triangles = by_shape ? scene.T : 0;
-  local.shapes = static_cast<long long>(shapes.size());
+  local.shapes = shapes ? static_cast<long long>(shapes->size()) : 0;
   local.uncovered = static_cast<long long>(rows) * grid.width - (drawn - overlap);
 
   // Samples that fall on pixel centres are written exactly (the plane and
