@@ -738,11 +738,12 @@ void draw_walk(const Scene& scene, const Walk& walk, int m, int shift, Image& ou
 // Same pixels, same values bit for bit; the rim is still walked.
 // Shapes pay where triangles own few pixels. At large scales the walk's
 // order (a group of rows at a time, left to right) keeps the rows' cache
-// lines and wins. Measured on lenna (one thread, scale_x scale_y up to
-// these): linear x2 0.024 s against 0.034 walked, x4 0.031 against 0.051,
-// x10 0.078 against 0.093, but x20 0.226 against 0.201; cubic x1 to x4
-// as fast or faster (x4 0.086 against 0.092), x10 0.216 against 0.197.
-constexpr double shape_max_scale2_linear = 100, shape_max_scale2_cubic = 16;
+// lines and wins. Measured on lenna, one thread, by shape against walked:
+// linear x2 0.021 s against 0.034, x4 0.027 against 0.051, x10 0.078
+// against 0.093, but x20 0.226 against 0.201; cubic x1 0.029 against
+// 0.037, x4 0.075 against 0.089, x6 0.111 against 0.125, x7 even, x8
+// 0.167 against 0.155, x10 0.222 against 0.195.
+constexpr double shape_max_scale2_linear = 100, shape_max_scale2_cubic = 36;
 
 struct Shape {
   // Offsets from the pixel floor(p0): rows (oy, xs, xe), the pixels
