@@ -26,6 +26,11 @@
 // each edge's crossing once for the two triangles beside it. Every pixel is
 // drawn once, by construction; groups are drawn in parallel (TBB). Per
 // pixel one multiply-add per channel (linear). See docs/performance.md.
+// Lattice meshes (pixel centres at integer scales: every vertex at the same
+// fractional position in output pixels) repeat a few triangle shapes by
+// whole pixels: each shape's pixels are found once with the walk's exact
+// crossings and every copy draws from that list, the same pixels and bits
+// with no walk (RenderGrid::by_shapes; the rim is still walked).
 //
 // A mesh with no triangles (collinear points) is rendered by linear
 // interpolation along the line, clamped at its ends; a single point gives a
