@@ -1094,7 +1094,8 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
     // Drawn by shape, the mesh ends the walks: the rim beyond it is walked
     // from the hull.
     if (by_shape)
-      for (index_t e : scene.hull) add_starts(scene.twin(e));
+      for (index_t e : scene.hull)
+        if (const index_t rim = scene.twin(e); rim != no_edge) add_starts(rim);
   } else if (!by_shape) {
     for (index_t e : scene.hull) add_starts(e);
   }
