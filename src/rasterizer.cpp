@@ -61,6 +61,9 @@ struct Scene {
   // most others (2.5, 0.75, ...) qualify; the rest take a filtered path.
   bool mesh_exact = false;
   std::vector<char> rim_exact;
+  // The rim of a convex hull overlaps no triangle; elsewhere its slabs can
+  // reach over the mesh, and what they cover depends on the drawing order.
+  bool hull_convex = false;
 
   index_t triangle_count() const { return T + static_cast<index_t>(rim_tris.size() / 3); }
   void corners(index_t t, index_t out[3]) const {
@@ -192,6 +195,7 @@ void add_rim(Scene& scene) {
     }
   }
   const double max_piece = M_PI / 3;  // keeps each fan triangle's far side beyond `far` * cos(30deg)
+  double min_turn = 0, total_turn = 0;
   for (std::size_t k_in = 0; k_in < hull.size(); ++k_in) {
     const index_t e_in = hull[k_in];
     const index_t v = mesh.tri[next_edge(e_in)];
@@ -199,6 +203,7 @@ void add_rim(Scene& scene) {
     const std::size_t k_out = index_of(e_out);
     const Point2 n_in = normal_of(e_in), n_out = normal_of(e_out);
     const double turn = std::atan2(n_in.x * n_out.y - n_in.y * n_out.x, n_in.x * n_out.x + n_in.y * n_out.y);
+    min_turn = std::min(min_turn, turn), total_turn += turn;
     // At a collinear hull vertex (turn 0, or below it by rounding) one flat
     // triangle joins the slabs, so the rim stays one ring of triangles.
     const int pieces = turn > 0 ? static_cast<int>(std::ceil(turn / max_piece)) : 1;
@@ -221,6 +226,9 @@ void add_rim(Scene& scene) {
       previous = next_far;
     }
   }
+  // One convex hull cycle turns by 2 pi, never back (collinear: 0 or a
+  // rounding below); holes, notches and separate parts do not.
+  scene.hull_convex = min_turn > -1e-9 && std::abs(total_turn - 2 * M_PI) < 1e-6;
   // Twins: rim edges matched with each other and with the hull's.
   struct Side {
     index_t lo, hi, e;
@@ -265,6 +273,17 @@ std::array<double, 10> scene_patch(const Scene& scene, index_t t, const index_t 
 
 // Two doubles, one SSE2 register: element-wise IEEE operations.
 typedef double v2d __attribute__((vector_size(16)));
+
+// The cubic's Bernstein monomials at barycentric weights (l0, l1, l2), in
+// the order of the control values (300, 030, 003, 210, 120, 021, 012, 102,
+// 201, 111), without their multinomial factors; one order of operations
+// everywhere (the same bits by any path). T: double or v2d.
+template <class T>
+void bernstein_monomials(T l0, T l1, T l2, T* m) {
+  const T l00 = l0 * l0, l11 = l1 * l1, l22 = l2 * l2;
+  m[0] = l00 * l0, m[1] = l11 * l1, m[2] = l22 * l2, m[3] = l00 * l1, m[4] = l0 * l11, m[5] = l11 * l2;
+  m[6] = l1 * l22, m[7] = l0 * l22, m[8] = l00 * l2, m[9] = l0 * l1 * l2;
+}
 
 // One directed edge u->v of a triangle: inside is its left (side > 0).
 struct Edge {
@@ -478,9 +497,8 @@ struct Shader {
   }
   // Cubic: one pixel from its barycentric weights.
   void pixel(double l0, double l1, double l2, float* px) const {
-    const double l00 = l0 * l0, l11 = l1 * l1, l22 = l2 * l2;
-    const double m[10] = {l00 * l0, l11 * l1, l22 * l2, l00 * l1, l0 * l11, l11 * l2, l1 * l22, l0 * l22, l00 * l2,
-                          l0 * l1 * l2};
+    double m[10];
+    bernstein_monomials(l0, l1, l2, m);
     monomial_pixel(m, px);
   }
   // Cubic: one pixel from its monomials m (pixel()'s), clamped.
@@ -496,9 +514,8 @@ struct Shader {
   // Cubic: two pixels at once (at px and qx), lane by lane the same
   // operations in the same order as pixel(), so the same bits.
   void pixel_pair(v2d l0, v2d l1, v2d l2, float* px, float* qx) const {
-    const v2d l00 = l0 * l0, l11 = l1 * l1, l22 = l2 * l2;
-    const v2d m[10] = {l00 * l0, l11 * l1, l22 * l2, l00 * l1, l0 * l11, l11 * l2, l1 * l22, l0 * l22, l00 * l2,
-                       l0 * l1 * l2};
+    v2d m[10];
+    bernstein_monomials(l0, l1, l2, m);
     monomial_pair(m, px, qx);
   }
   // Cubic: two pixels from their monomials, lane by lane as monomial_pixel().
@@ -685,7 +702,7 @@ void trace_walks(const Scene& scene, Walk* walks, int n, index_t stop_below) {
 }
 
 struct DrawCounts {
-  long long pixels = 0, power_pieces = 0, bernstein_pieces = 0;
+  long long pixels = 0, power_pieces = 0, bernstein_pieces = 0, shaped_triangles = 0;
 };
 
 // Draws a traced walk on rows [g, g + m): each triangle's part of a row is
@@ -747,28 +764,31 @@ constexpr double shape_max_scale2_linear = 100, shape_max_scale2_cubic = 36;
 
 struct Shape {
   // Offsets from the pixel floor(p0): rows (oy, xs, xe), the pixels
-  // [xs, xe) of row oy, every row the triangle crosses, top to bottom;
-  // pixels (ox, oy, xs of their row) in reading order.
-  std::vector<std::array<int, 3>> rows, pixels;
-  // Each pixel as the linear render needs it: Y - p0.y and xs - p0.x (exact,
-  // so equal to the walk's), x - xs, and its offset in the image's floats.
+  // [xs, xe) of row oy, every row the triangle crosses, top to bottom.
+  std::vector<std::array<int, 3>> rows;
+  long long pixel_count = 0;
+  int min_ox = 0, max_ox = 0, min_oy = 0, max_oy = 0;  // bounds of the pixels
+  // Kept shapes of few pixels also list them (else drawn by rows): each as
+  // the linear render needs it, Y - p0.y and xs - p0.x (exact, so equal to
+  // the walk's), x - xs, and its offset in the image's floats from pixel
+  // floor(p0).
   struct Placed {
     double dy, dxs, dx;
     std::ptrdiff_t offset;
   };
   std::vector<Placed> placed;
-  // Cubic: where each row's pixels start in `placed` (one more entry than
-  // rows), and each pixel's Bernstein monomials as pixel() computes them
-  // (from exact edge functions and 1 / area2, so the walk's bits).
+  // Cubic, with the list: where each row's pixels start in `placed` (one
+  // more entry than rows), and each pixel's Bernstein monomials as pixel()
+  // computes them (from exact edge functions and 1 / area2: the walk's bits).
   std::vector<std::size_t> row_first;
   std::vector<std::array<double, 10>> monomials;
-  int min_ox = 0, max_ox = 0, min_oy = 0, max_oy = 0;  // bounds of the pixels
 };
 
-// d1 = p1 - p0, d2 = p2 - p0 (whole pixels), phase = p0 - floor(p0).
-// Images row_floats floats a row, C a pixel.
-Shape build_shape(const int d1[2], const int d2[2], const Point2& phase, std::ptrdiff_t row_floats, int C,
-                  bool cubic) {
+// d1 = p1 - p0, d2 = p2 - p0 (whole pixels), phase = p0 - floor(p0); the
+// image has row_floats floats a row, C a pixel. The pixel list only when
+// the shape has at most list_limit pixels.
+Shape build_shape(const int d1[2], const int d2[2], const Point2& phase, std::ptrdiff_t row_floats, int C, bool cubic,
+                  long long list_limit) {
   // Local coordinates, all at least 1 (first_right clamps below 0).
   const int ox = 1 - std::min({0, d1[0], d2[0]}), oy = 1 - std::min({0, d1[1], d2[1]});
   const Point2 q[3] = {{phase.x + ox, phase.y + oy},
@@ -778,7 +798,6 @@ Shape build_shape(const int d1[2], const int d2[2], const Point2& phase, std::pt
   constexpr int unbounded = 1 << 30;
   Shape shape;
   bool first = true;
-  const double inv_area2 = 1.0 / ((q[1].x - q[0].x) * (q[2].y - q[0].y) - (q[1].y - q[0].y) * (q[2].x - q[0].x));
   // Rows y_min <= Y < y_max, as the walk crosses them: one downward edge
   // (its left side is the triangle) and one upward edge (reversed: its
   // right side is).
@@ -791,25 +810,28 @@ Shape build_shape(const int d1[2], const int d2[2], const Point2& phase, std::pt
     }
     const int row = Y - oy, xs = left - ox, xe = std::max(right, left) - ox;
     shape.rows.push_back({row, xs, xe});  // empty rows too: pieces are runs of rows
-    shape.row_first.push_back(shape.placed.size());
     if (xe == xs) continue;
-    for (int x = xs; x < xe; ++x) {
-      shape.pixels.push_back({x, row, xs});
-      shape.placed.push_back({row - phase.y, xs - phase.x, double(x - xs), row * row_floats + std::ptrdiff_t(x) * C});
-      if (cubic) {
-        double e[3];  // edge functions of p_k -> p_(k+1) at the pixel centre, as draw_bernstein()
-        for (int k = 0; k < 3; ++k) {
-          const Point2 &u = q[k], &v = q[(k + 1) % 3];
-          e[k] = (v.x - u.x) * (Y - u.y) - (v.y - u.y) * (x + ox - u.x);
-        }
-        const double l0 = e[1] * inv_area2, l1 = e[2] * inv_area2, l2 = e[0] * inv_area2;
-        const double l00 = l0 * l0, l11 = l1 * l1, l22 = l2 * l2;
-        shape.monomials.push_back({l00 * l0, l11 * l1, l22 * l2, l00 * l1, l0 * l11, l11 * l2, l1 * l22, l0 * l22,
-                                   l00 * l2, l0 * l1 * l2});
-      }
-    }
+    shape.pixel_count += xe - xs;
     if (first) shape.min_ox = xs, shape.max_ox = xe - 1, shape.min_oy = row, first = false;
     shape.min_ox = std::min(shape.min_ox, xs), shape.max_ox = std::max(shape.max_ox, xe - 1), shape.max_oy = row;
+  }
+  if (shape.pixel_count == 0 || shape.pixel_count > list_limit) return shape;
+  const double inv_area2 = 1.0 / ((q[1].x - q[0].x) * (q[2].y - q[0].y) - (q[1].y - q[0].y) * (q[2].x - q[0].x));
+  for (const auto& [row, xs, xe] : shape.rows) {
+    shape.row_first.push_back(shape.placed.size());
+    for (int x = xs; x < xe; ++x) {
+      shape.placed.push_back({row - phase.y, xs - phase.x, double(x - xs), row * row_floats + std::ptrdiff_t(x) * C});
+      if (cubic) {
+        // Edge functions of q_k -> q_(k+1) at the pixel centre, as draw_bernstein().
+        const double X = x + ox, Y = row + oy;
+        double e[3];
+        for (int k = 0; k < 3; ++k) {
+          const Point2 &u = q[k], &v = q[(k + 1) % 3];
+          e[k] = (v.x - u.x) * (Y - u.y) - (v.y - u.y) * (X - u.x);
+        }
+        bernstein_monomials(e[1] * inv_area2, e[2] * inv_area2, e[0] * inv_area2, shape.monomials.emplace_back().data());
+      }
+    }
   }
   shape.row_first.push_back(shape.placed.size());
   return shape;
@@ -828,7 +850,7 @@ class ShapeTable {
       if (std::abs(v) > max_offset) return nullptr;
     std::uint64_t key = 0;
     for (int v : {d1[0], d1[1], d2[0], d2[1]}) key = key << 16 | static_cast<std::uint16_t>(v);
-    // key 0 (all offsets 0) is no triangle: it marks empty slots.
+    if (key == 0) return nullptr;  // no triangle; key 0 marks empty slots
     std::size_t h = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> (64 - capacity_bits));
     for (;; h = (h + 1) & (capacity - 1)) {
       const std::uint64_t k = slots_[h].key.load(std::memory_order_acquire);
@@ -842,18 +864,25 @@ class ShapeTable {
       if (k == 0) break;
     }
     if (4 * (shapes_.size() + 1) > 3 * capacity) return nullptr;
-    shapes_.push_back(build(d1, d2, phase));
+    shapes_.push_back(build_shape(d1, d2, phase, row_floats_, C_, cubic_,
+                                  std::min(max_listed_pixels, listed_budget_ - listed_)));
+    listed_ += static_cast<long long>(shapes_.back().placed.size());
     slots_[h].shape.store(&shapes_.back(), std::memory_order_release);
     slots_[h].key.store(key, std::memory_order_release);
     return &shapes_.back();
   }
   std::size_t size() const { return shapes_.size(); }
-  Shape build(const int d1[2], const int d2[2], const Point2& phase) const {
-    return build_shape(d1, d2, phase, row_floats_, C_, cubic_);
+  // A shape for one triangle: its rows only.
+  Shape rows_of(const int d1[2], const int d2[2], const Point2& phase) const {
+    return build_shape(d1, d2, phase, row_floats_, C_, cubic_, 0);
   }
 
  private:
+  // Offsets up to 64 pixels; pixel lists for shapes of up to 4096 pixels,
+  // 2^20 pixels in all (at most 112 MB with the cubic's monomials).
   static constexpr int capacity_bits = 14, max_offset = 64;
+  static constexpr long long max_listed_pixels = 4096, listed_budget_ = 1 << 20;
+  long long listed_ = 0;
   static constexpr std::size_t capacity = std::size_t(1) << capacity_bits;
   struct Slot {
     std::atomic<std::uint64_t> key{0};
@@ -867,12 +896,34 @@ class ShapeTable {
   bool cubic_;
 };
 
+// Shapes pay when they repeat: at most one distinct shape in four of a
+// sample of the triangles (an image grid has about 100 shapes in all; a
+// sparse subset of a lattice, each triangle its own, is walked instead:
+// listing pixels once for one use costs more than drawing them).
+bool shapes_repeat(const Scene& scene) {
+  const index_t n = std::min<index_t>(scene.T, 4096), step = scene.T / n;
+  std::vector<std::uint64_t> keys;
+  keys.reserve(n);
+  for (index_t i = 0; i < n; ++i) {
+    index_t id[3];
+    scene.corners(i * step, id);
+    const Point2 p0 = scene.pos(id[0]), p1 = scene.pos(id[1]), p2 = scene.pos(id[2]);
+    std::uint64_t key = 0;
+    for (double d : {p1.x - p0.x, p1.y - p0.y, p2.x - p0.x, p2.y - p0.y})
+      key = key << 16 | static_cast<std::uint16_t>(static_cast<int>(d));
+    keys.push_back(key);
+  }
+  std::sort(keys.begin(), keys.end());
+  const auto distinct = std::unique(keys.begin(), keys.end()) - keys.begin();
+  return 4 * distinct <= n;
+}
+
 // Draws mesh triangle t of a lattice mesh from its shape: rows [row0, row1)
 // of the grid, to out row - shift. Adds its pixels and pieces to counts.
 template <int CT, bool cubic>
 void draw_by_shape(const Scene& scene, index_t t, ShapeTable& table, const Point2& phase,
-                   const std::vector<int>& group_of_row, int row0, int row1, int shift, Image& out,
-                   Shape& own, std::vector<int>& left, std::vector<int>& right, DrawCounts& counts) {
+                   const std::vector<int>& group_of_row, int row0, int row1, int shift, Image& out, Shape& own,
+                   std::vector<int>& left, std::vector<int>& right, DrawCounts& counts) {
   index_t id[3];
   Point2 p[3];
   scene.corners(t, id);
@@ -882,34 +933,34 @@ void draw_by_shape(const Scene& scene, index_t t, ShapeTable& table, const Point
   const int d1[2] = {static_cast<int>(p[1].x - p[0].x), static_cast<int>(p[1].y - p[0].y)};
   const int d2[2] = {static_cast<int>(p[2].x - p[0].x), static_cast<int>(p[2].y - p[0].y)};
   const Shape* shape = table.find(d1, d2, phase);
-  if (!shape) own = table.build(d1, d2, phase), shape = &own;
-  if (shape->pixels.empty() || by + shape->max_oy < row0 || by + shape->min_oy >= row1) return;
-  const int W = out.width;
+  if (!shape) own = table.rows_of(d1, d2, phase), shape = &own;
+  if (shape->pixel_count == 0 || by + shape->max_oy < row0 || by + shape->min_oy >= row1) return;
+  ++counts.shaped_triangles;
+  const int W = out.width, C = out.channels;
   const bool clipped = bx + shape->min_ox < 0 || bx + shape->max_ox >= W || by + shape->min_oy < row0 ||
                        by + shape->max_oy >= row1;
+  // Pixel floor(p0) in the image's floats; it may lie outside the image
+  // (only the sums with the pixels' offsets are inside).
+  const std::ptrdiff_t origin = (static_cast<std::ptrdiff_t>(by - shift) * W + bx) * C;
+  float* const image = out.pixels.data();
   if constexpr (!cubic) {
     Shader<CT, false> shader;
     const double area2 = (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[1].y - p[0].y) * (p[2].x - p[0].x);
     shader.init(scene, t, id, p[0], p[1], p[2], area2, 0);
-    long long drawn = 0;
-    if (!clipped) {
+    if (!clipped && !shape->placed.empty()) {
       // One loop over the pixels, no loop per row: rows of 1 to 4 pixels
       // (small scales) cost a mispredicted exit each.
-      float* const at = &out.pixels[out.index(bx, by - shift)];
-      for (const Shape::Placed& q : shape->placed) shader.placed_pixel(q.dy, q.dxs, q.dx, at + q.offset);
-      drawn = static_cast<long long>(shape->placed.size());
-    } else {
-      for (const auto& [ox, oy, xs] : shape->pixels) {
-        const int x = bx + ox, y = by + oy;
-        if (x < 0 || x >= W || y < row0 || y >= row1) continue;
-        // The walk clamps a row's first pixel to the image, and the row's
-        // values are stepped from it.
-        const int first = std::max(bx + xs, 0);
-        shader.placed_pixel(y - p[0].y, first - p[0].x, x - first, &out.pixels[out.index(x, y - shift)]);
-        ++drawn;
-      }
+      for (const Shape::Placed& q : shape->placed) shader.placed_pixel(q.dy, q.dxs, q.dx, image + (origin + q.offset));
+      counts.pixels += shape->pixel_count;
+      return;
     }
-    counts.pixels += drawn;
+    // Row by row as the walk draws them (a row's first pixel clamped to the image).
+    for (const auto& [oy, xs, xe] : shape->rows) {
+      const int y = by + oy, first = std::clamp(bx + xs, 0, W), end = std::clamp(bx + xe, 0, W);
+      if (y < row0 || y >= row1 || end <= first) continue;
+      shader.row(y, first, end - 1, &out.pixels[out.index(first, y - shift)]);
+      counts.pixels += end - first;
+    }
   } else {
     // Pieces as the walk has them: the triangle's rows within each group.
     const auto& rows = shape->rows;
@@ -922,27 +973,26 @@ void draw_by_shape(const Scene& scene, index_t t, ShapeTable& table, const Point
       const int group = group_of_row[y - row0];
       std::size_t j = i;
       left.clear(), right.clear();
-      long long pixels = 0;
+      long long pixels = 0, unclipped = 0;
       for (; j < rows.size() && by + rows[j][0] < row1 && group_of_row[by + rows[j][0] - row0] == group; ++j) {
         left.push_back(std::clamp(bx + rows[j][1], 0, W)), right.push_back(std::clamp(bx + rows[j][2], 0, W));
-        pixels += right.back() - left.back();
+        pixels += right.back() - left.back(), unclipped += rows[j][2] - rows[j][1];
       }
       if (pixels > 0) {
         const Piece<CT, true> piece(scene, t, id, p, true, pixels);
-        const std::size_t first = shape->row_first[i], end = shape->row_first[j];
-        if (!piece.shader.by_power && !(clipped && pixels != static_cast<long long>(end - first))) {
+        if (!piece.shader.by_power && !shape->monomials.empty() && pixels == unclipped) {
           // The Bernstein form from the shape's monomials, pixels paired in
           // reading order (as draw_bernstein; pairing leaves the bits alone).
-          float* const at = &out.pixels[out.index(bx, by - shift)];
           const auto& q = shape->placed;
           const auto& m = shape->monomials;
-          std::size_t k = first;
+          const std::size_t end = shape->row_first[j];
+          std::size_t k = shape->row_first[i];
           for (; k + 1 < end; k += 2) {
             v2d pair[10];
             for (int n = 0; n < 10; ++n) pair[n] = v2d{m[k][n], m[k + 1][n]};
-            piece.shader.monomial_pair(pair, at + q[k].offset, at + q[k + 1].offset);
+            piece.shader.monomial_pair(pair, image + (origin + q[k].offset), image + (origin + q[k + 1].offset));
           }
-          if (k < end) piece.shader.monomial_pixel(m[k].data(), at + q[k].offset);
+          if (k < end) piece.shader.monomial_pixel(m[k].data(), image + (origin + q[k].offset));
         } else {
           piece.draw(y, static_cast<int>(j - i), left.data(), right.data(), out, shift);
         }
@@ -1061,8 +1111,9 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
   });
   scene.mesh_exact = exact;
   const double output_per_input = grid.scale_x * grid.scale_y;  // pixels per input unit area
-  const bool by_shape = scene.mesh_exact && lattice &&
-                        output_per_input <= (gradients ? shape_max_scale2_cubic : shape_max_scale2_linear);
+  const bool by_shape = scene.mesh_exact && lattice && (!fill_outside || scene.hull_convex) &&
+                        output_per_input <= (gradients ? shape_max_scale2_cubic : shape_max_scale2_linear) &&
+                        shapes_repeat(scene);
   scene.rim_exact.resize(scene.rim_points.size());
   for (std::size_t i = 0; i < scene.rim_points.size(); ++i) {
     const Point2 p = scene.pos(scene.V + static_cast<index_t>(i));
@@ -1109,7 +1160,7 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
   std::optional<ShapeTable> shapes;  // 256 KB of slots: only when used
   if (by_shape) shapes.emplace(static_cast<std::ptrdiff_t>(grid.width) * C, C, gradients != nullptr);
   if (progress) progress->begin("render", groups + shape_chunks);
-  std::atomic<long long> drawn{0}, overlap{0}, power_pieces{0}, bernstein_pieces{0};
+  std::atomic<long long> drawn{0}, overlap{0}, power_pieces{0}, bernstein_pieces{0}, shaped{0};
   auto draw_groups = [&](auto channels, auto cubic) {
     constexpr int CT = decltype(channels)::value;
     constexpr bool is_cubic = decltype(cubic)::value;
@@ -1158,7 +1209,7 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
       for (index_t t = t0; t < t1; ++t)
         draw_by_shape<CT, is_cubic>(scene, t, *shapes, phase, group_of_row, row0, row1, shift, out, own, left, right,
                                     counts);
-      drawn += counts.pixels;
+      drawn += counts.pixels, shaped += counts.shaped_triangles;
       power_pieces += counts.power_pieces, bernstein_pieces += counts.bernstein_pieces;
       if (progress) progress->add(range.size());
     });
@@ -1172,7 +1223,7 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
   }
   local.overcovered = overlap;
   local.power_pieces = power_pieces, local.bernstein_pieces = bernstein_pieces;
-  local.shaped_triangles = by_shape ? scene.T : 0;
+  local.shaped_triangles = shaped;
   local.shapes = shapes ? static_cast<long long>(shapes->size()) : 0;
   local.uncovered = static_cast<long long>(rows) * grid.width - (drawn - overlap);
 

@@ -56,8 +56,8 @@ struct RenderGrid {
   // Lattice meshes (every vertex at the same fractional position in output
   // pixels, as pixel centres at integer scales): draw the mesh's triangles
   // from the pixel lists of their shapes instead of walking them; same
-  // pixels, same bits, faster at small scales. false: always walk (tests,
-  // the benchmark's comparison).
+  // pixels, same bits, faster at small scales; with the rim, convex hulls
+  // only. false: always walk (tests, the benchmark's comparison).
   bool by_shapes = true;
 };
 
@@ -70,8 +70,9 @@ struct RenderStats {
   // patch's power form and from its Bernstein form.
   long long power_pieces = 0;
   long long bernstein_pieces = 0;
-  // Lattice meshes drawn by shape: the mesh triangles so drawn, and the
-  // distinct shapes kept (triangles of other shapes build theirs each).
+  // Lattice meshes drawn by shape: the mesh triangles so drawn (those with
+  // pixels in the rows), and the distinct shapes kept (triangles of other
+  // shapes, with offsets over 64 pixels, find their rows each).
   long long shaped_triangles = 0;
   long long shapes = 0;
 };
@@ -90,7 +91,8 @@ struct RenderStats {
 //   fill_outside  render the rim outside the hull (false: those pixels keep `outside_value`)
 //   gradients     nullptr: piecewise linear; else #V by C by 2 vertex gradients
 //                 (d/dx, d/dy in input units) for the cubic mode; C <= 16
-//   progress      if given, a stage "render" counting groups of rows
+//   progress      if given, a stage "render" counting groups of rows (and,
+//                 drawn by shape, chunks of 4096 triangles)
 // Output: width x height x C image.
 Image render_mesh(const Mesh2& mesh, const std::vector<float>& values, int C, const RenderGrid& grid,
                   RenderStats* stats = nullptr, bool fill_outside = true, float outside_value = 0.0f,

@@ -294,73 +294,148 @@ TEST_CASE("render_mesh: collinear samples interpolate along their line") {
   for (float v : one.pixels) CHECK(v == 0.25f);
 }
 
+namespace {
+
+struct Sampling {
+  double scale_x, scale_y, origin_x, origin_y;
+  bool lattice;  // exact, every vertex at the same fractional position in output pixels
+};
+
+// Renders m with and without drawing by shape; requires the same bits and
+// counts. Returns the triangles drawn by shape.
+long long compare_shapes_with_walk(const Mesh2& m, int C, bool cubic, const Sampling& k, bool fill_outside,
+                                   bool window) {
+  const std::vector<float> values = random_values(m.points.size(), C, 11);
+  std::vector<float> gradients = random_values(m.points.size(), 2 * C, 12);
+  for (float& g : gradients) g -= 0.5f;
+  double w = 0, h = 0;
+  for (const Point2& p : m.points) w = std::max(w, p.x + 0.5), h = std::max(h, p.y + 0.5);
+  RenderGrid g;
+  g.width = static_cast<int>(w * k.scale_x), g.height = static_cast<int>(h * k.scale_y);
+  g.scale_x = k.scale_x, g.scale_y = k.scale_y;
+  g.origin_x = k.origin_x, g.origin_y = k.origin_y;
+  int out_row = 0;
+  if (window) g.first_row = 5, g.rows = g.height / 2, out_row = 2;
+  const int rows = window ? g.rows : g.height;
+  Image by_shape(g.width, rows + out_row, C, -1.0f), walked = by_shape;
+  RenderStats shape_stats, walk_stats;
+  render_mesh_into(by_shape, out_row, m, values, C, g, &shape_stats, fill_outside, cubic ? &gradients : nullptr);
+  g.by_shapes = false;
+  render_mesh_into(walked, out_row, m, values, C, g, &walk_stats, fill_outside, cubic ? &gradients : nullptr);
+  CHECK(walk_stats.shaped_triangles == 0);
+  REQUIRE(by_shape.pixels.size() == walked.pixels.size());
+  CHECK(std::memcmp(by_shape.pixels.data(), walked.pixels.data(), by_shape.pixels.size() * sizeof(float)) == 0);
+  CHECK(shape_stats.uncovered == walk_stats.uncovered);
+  CHECK(shape_stats.overcovered == walk_stats.overcovered);
+  CHECK(shape_stats.power_pieces == walk_stats.power_pieces);
+  CHECK(shape_stats.bernstein_pieces == walk_stats.bernstein_pieces);
+  return shape_stats.shaped_triangles;
+}
+
+}  // namespace
+
 TEST_CASE("render_mesh: a lattice mesh drawn by shape equals the walked one, bit for bit") {
-  // An optimized grid (thin triangles of many shapes) and a random third
-  // of the lattice (long edges: at x10 offsets beyond the shape table's).
+  // An optimized grid (thin triangles of many shapes); a grid with a hole
+  // (long triangles across it: at x10 offsets beyond the shape table's,
+  // drawn from their rows); and a random third of the lattice (shapes too
+  // varied to pay: walked, which this only checks gives the same bits).
   const int w = 23, h = 17;
   std::vector<Mesh2> meshes;
+  std::mt19937 rng(7);
   {
     Mesh2 m = delaunay_triangulation(test::grid_points(w, h));
     std::vector<float> edge;  // a slanted step with noise: flips along it
-    std::mt19937 rng(7);
     std::uniform_real_distribution<float> noise(0.0f, 0.1f);
     for (const Point2& p : m.points) edge.push_back((p.x + 0.4 * p.y > 12 ? 0.8f : 0.2f) + noise(rng));
     optimize_lawson(m, edge, 1, find_cost("sederberg"));
     meshes.push_back(std::move(m));
+    std::vector<Point2> holed;
+    for (const Point2& p : test::grid_points(w, h))
+      if (!(p.x > 6 && p.x < 15 && p.y > 5 && p.y < 12)) holed.push_back(p);
+    meshes.push_back(delaunay_triangulation(holed));
     std::vector<Point2> subset;
     for (const Point2& p : test::grid_points(w, h))
       if (rng() % 3 == 0) subset.push_back(p);
     meshes.push_back(delaunay_triangulation(subset));
   }
-  struct Case {
-    double scale, origin;  // origins 2 and -1.5: the mesh runs off the image
-    bool lattice;  // exact, every vertex at the same fractional position
-  };
-  const Case cases[] = {{1, 0, true}, {2, 0, true}, {3, 0, true}, {4, 0, true}, {6, 0, true}, {10, 0, true},
-                        {4, 0.25, true}, {4, 2, true}, {3, -1.5, true}, {2.5, 0, false}, {4, 0.3, false}};
-  int shaped = 0;
+  // Origins 2 and -1.5 put the mesh off the image; unequal scales and
+  // phases in x and y; the last two are not lattices in output pixels.
+  const Sampling cases[] = {{1, 1, 0, 0, true},      {2, 2, 0, 0, true},      {3, 3, 0, 0, true},
+                            {4, 4, 0, 0, true},      {6, 6, 0, 0, true},      {10, 10, 0, 0, true},
+                            {4, 4, 0.25, 0.25, true}, {4, 4, 2, 2, true},      {3, 3, -1.5, -1.5, true},
+                            {2, 3, 0, 0, true},      {4, 1, 0.25, -0.5, true}, {5, 3, 0.1, 0.75, true},
+                            {2.5, 2.5, 0, 0, false}, {4, 4, 0.3, 0.3, false}};
+  int expected = 0;
   for (std::size_t mi = 0; mi < meshes.size(); ++mi)
     for (int C : {1, 2, 3, 4})
       for (bool cubic : {false, true})
-        for (const Case& k : cases)
+        for (const Sampling& k : cases)
           for (bool fill_outside : {true, false})
             for (bool window : {false, true}) {
               CAPTURE(mi);
               CAPTURE(C);
               CAPTURE(cubic);
-              CAPTURE(k.scale);
-              CAPTURE(k.origin);
+              CAPTURE(k.scale_x);
+              CAPTURE(k.scale_y);
+              CAPTURE(k.origin_x);
+              CAPTURE(k.origin_y);
               CAPTURE(fill_outside);
               CAPTURE(window);
-              const Mesh2& m = meshes[mi];
-              const std::vector<float> values = random_values(m.points.size(), C, 11);
-              std::vector<float> gradients = random_values(m.points.size(), 2 * C, 12);
-              for (float& g : gradients) g -= 0.5f;
-              RenderGrid g;
-              g.width = static_cast<int>(w * k.scale), g.height = static_cast<int>(h * k.scale);
-              g.scale_x = g.scale_y = k.scale;
-              g.origin_x = g.origin_y = k.origin;
-              int out_row = 0;
-              if (window) g.first_row = 5, g.rows = g.height / 2, out_row = 2;
-              const int rows = window ? g.rows : g.height;
-              Image by_shape(g.width, rows + out_row, C, -1.0f), walked = by_shape;
-              RenderStats shape_stats, walk_stats;
-              render_mesh_into(by_shape, out_row, m, values, C, g, &shape_stats, fill_outside,
-                               cubic ? &gradients : nullptr);
-              g.by_shapes = false;
-              render_mesh_into(walked, out_row, m, values, C, g, &walk_stats, fill_outside,
-                               cubic ? &gradients : nullptr);
-              const bool expect_shapes = k.lattice && k.scale * k.scale <= (cubic ? 36 : 100);
-              CHECK(shape_stats.shaped_triangles == (expect_shapes ? m.triangle_count() : 0));
-              CHECK(walk_stats.shaped_triangles == 0);
-              shaped += expect_shapes;
-              REQUIRE(by_shape.pixels.size() == walked.pixels.size());
-              CHECK(std::memcmp(by_shape.pixels.data(), walked.pixels.data(), by_shape.pixels.size() * sizeof(float)) ==
-                    0);
-              CHECK(shape_stats.uncovered == walk_stats.uncovered);
-              CHECK(shape_stats.overcovered == 0);
-              CHECK(shape_stats.power_pieces == walk_stats.power_pieces);
-              CHECK(shape_stats.bernstein_pieces == walk_stats.bernstein_pieces);
+              const long long shaped = compare_shapes_with_walk(meshes[mi], C, cubic, k, fill_outside, window);
+              if (mi == 2) continue;
+              const bool expect_shapes = k.lattice && k.scale_x * k.scale_y <= (cubic ? 36 : 100);
+              CHECK((shaped > 0) == expect_shapes);
+              expected += expect_shapes;
             }
-  CHECK(shaped > 100);
+  CHECK(expected > 100);
+}
+
+TEST_CASE("render_mesh: drawn by shape, several chunks of triangles, a notched hull, unused vertices") {
+  // 90x60 grid: about 10 600 triangles, chunks of 4096 drawn in parallel.
+  {
+    Mesh2 m = delaunay_triangulation(test::grid_points(90, 60));
+    const std::vector<float> field = random_values(m.points.size(), 1, 3);
+    optimize_lawson(m, field, 1, find_cost("sederberg"));
+    for (bool cubic : {false, true})
+      for (double scale : {2.0, 4.0}) {
+        CAPTURE(cubic);
+        CAPTURE(scale);
+        CHECK(compare_shapes_with_walk(m, 3, cubic, {scale, scale, 0, 0, true}, true, false) > 4096);
+      }
+  }
+  // The U-shaped grid: with the rim its slabs reach over the other arm, so
+  // only the walk draws it; without the rim shapes do.
+  {
+    const int w = 5, h = 3;
+    std::vector<std::array<index_t, 3>> tris;
+    for (int y = 0; y + 1 < h; ++y)
+      for (int x = 0; x + 1 < w; ++x) {
+        if (y == 0 && (x == 1 || x == 2)) continue;
+        const index_t i00 = y * w + x, i10 = i00 + 1, i01 = i00 + w, i11 = i01 + 1;
+        tris.push_back({i00, i10, i01});
+        tris.push_back({i10, i11, i01});
+      }
+    const Mesh2 m = test::mesh_from_triangles(test::grid_points(w, h), tris);
+    for (bool cubic : {false, true}) {
+      CAPTURE(cubic);
+      CHECK(compare_shapes_with_walk(m, 1, cubic, {4, 4, 0, 0, true}, true, false) == 0);
+      CHECK(compare_shapes_with_walk(m, 1, cubic, {4, 4, 0, 0, true}, false, false) > 0);
+    }
+  }
+  // An unused vertex: on the lattice it changes nothing, off it (here
+  // vertex 0, whose phase the others are compared with) shapes are off.
+  for (const Point2 extra : {Point2{7.5, 1.5}, Point2{7.25, 1.5}}) {
+    std::vector<Point2> points = {extra};
+    for (const Point2& p : test::grid_points(6, 4)) points.push_back(p);
+    std::vector<std::array<index_t, 3>> tris;
+    for (int y = 0; y + 1 < 4; ++y)
+      for (int x = 0; x + 1 < 6; ++x) {
+        const index_t i00 = 1 + y * 6 + x, i10 = i00 + 1, i01 = i00 + 6, i11 = i01 + 1;
+        tris.push_back({i00, i10, i01});
+        tris.push_back({i10, i11, i01});
+      }
+    const Mesh2 m = test::mesh_from_triangles(points, tris);
+    CAPTURE(extra.x);
+    CHECK((compare_shapes_with_walk(m, 3, false, {3, 3, 0, 0, true}, true, false) > 0) == (extra.x == 7.5));
+  }
 }
