@@ -39,6 +39,28 @@ Point2 nearest_on_segment(const Point2& p, const Point2& q, const Point2& r) {
   return {p.x + t * dx, p.y + t * dy};
 }
 
+// The triangles of a w x h grid of points numbered from `first`, row by
+// row, each cell kept split by the same diagonal.
+template <class Keep>
+std::vector<std::array<index_t, 3>> cell_triangles(int w, int h, index_t first, Keep keep) {
+  std::vector<std::array<index_t, 3>> tris;
+  for (int y = 0; y + 1 < h; ++y)
+    for (int x = 0; x + 1 < w; ++x) {
+      if (!keep(x, y)) continue;
+      const index_t i00 = first + y * w + x, i10 = i00 + 1, i01 = i00 + w, i11 = i01 + 1;
+      tris.push_back({i00, i10, i01});
+      tris.push_back({i10, i11, i01});
+    }
+  return tris;
+}
+
+// The 5x3 grid without the two middle cells of the top row: a U, whose
+// notch makes rows through the arms meet the boundary four times.
+Mesh2 u_shaped_grid() {
+  return test::mesh_from_triangles(test::grid_points(5, 3),
+                                   cell_triangles(5, 3, 0, [](int x, int y) { return !(y == 0 && (x == 1 || x == 2)); }));
+}
+
 }  // namespace
 
 TEST_CASE("render_mesh: at scale 3, output (3i+1, 3j+1) equals input sample (i, j) exactly") {
@@ -235,18 +257,9 @@ TEST_CASE("render_mesh: without the rim, outside pixels keep the no-data value")
 }
 
 TEST_CASE("render_mesh: a U-shaped mesh without the rim: rows crossing both arms, the notch left alone") {
-  // The 5x3 grid without the two middle cells of the top row: rows through
-  // the arms meet the boundary four times (two walks per row).
+  // Rows through the arms meet the boundary four times (two walks per row).
   const int w = 5, h = 3;
-  std::vector<std::array<index_t, 3>> tris;
-  for (int y = 0; y + 1 < h; ++y)
-    for (int x = 0; x + 1 < w; ++x) {
-      if (y == 0 && (x == 1 || x == 2)) continue;
-      const index_t i00 = y * w + x, i10 = i00 + 1, i01 = i00 + w, i11 = i01 + 1;
-      tris.push_back({i00, i10, i01});
-      tris.push_back({i10, i11, i01});
-    }
-  const Mesh2 m = test::mesh_from_triangles(test::grid_points(w, h), tris);
+  const Mesh2 m = u_shaped_grid();
   REQUIRE(m.triangle_count() == 12);
   // A linear function is reproduced wherever the mesh is.
   auto f = [](double x, double y) { return 0.25 + 0.125 * x - 0.0625 * y; };
@@ -406,16 +419,7 @@ TEST_CASE("render_mesh: drawn by shape, several chunks of triangles, a notched h
   // The U-shaped grid: with the rim its slabs reach over the other arm, so
   // only the walk draws it; without the rim shapes do.
   {
-    const int w = 5, h = 3;
-    std::vector<std::array<index_t, 3>> tris;
-    for (int y = 0; y + 1 < h; ++y)
-      for (int x = 0; x + 1 < w; ++x) {
-        if (y == 0 && (x == 1 || x == 2)) continue;
-        const index_t i00 = y * w + x, i10 = i00 + 1, i01 = i00 + w, i11 = i01 + 1;
-        tris.push_back({i00, i10, i01});
-        tris.push_back({i10, i11, i01});
-      }
-    const Mesh2 m = test::mesh_from_triangles(test::grid_points(w, h), tris);
+    const Mesh2 m = u_shaped_grid();
     for (bool cubic : {false, true}) {
       CAPTURE(cubic);
       CHECK(compare_shapes_with_walk(m, 1, cubic, {4, 4, 0, 0, true}, true, false) == 0);
@@ -427,14 +431,7 @@ TEST_CASE("render_mesh: drawn by shape, several chunks of triangles, a notched h
   for (const Point2 extra : {Point2{7.5, 1.5}, Point2{7.25, 1.5}}) {
     std::vector<Point2> points = {extra};
     for (const Point2& p : test::grid_points(6, 4)) points.push_back(p);
-    std::vector<std::array<index_t, 3>> tris;
-    for (int y = 0; y + 1 < 4; ++y)
-      for (int x = 0; x + 1 < 6; ++x) {
-        const index_t i00 = 1 + y * 6 + x, i10 = i00 + 1, i01 = i00 + 6, i11 = i01 + 1;
-        tris.push_back({i00, i10, i01});
-        tris.push_back({i10, i11, i01});
-      }
-    const Mesh2 m = test::mesh_from_triangles(points, tris);
+    const Mesh2 m = test::mesh_from_triangles(points, cell_triangles(6, 4, 1, [](int, int) { return true; }));
     CAPTURE(extra.x);
     CHECK((compare_shapes_with_walk(m, 3, false, {3, 3, 0, 0, true}, true, false) > 0) == (extra.x == 7.5));
   }
