@@ -843,8 +843,9 @@ class ShapeTable {
  public:
   ShapeTable(std::ptrdiff_t row_floats, int C, bool cubic)
       : slots_(capacity), row_floats_(row_floats), C_(C), cubic_(cubic) {}
-  // The shape of (d1, d2), built on first use; nullptr when it is too large
-  // to keep or the table is full (the caller builds it for itself).
+  // The shape of (d1, d2), built on first use; nullptr for offsets over
+  // max_offset or a full table (the caller draws such a triangle from
+  // rows_of()).
   const Shape* find(const int d1[2], const int d2[2], const Point2& phase) {
     for (int v : {d1[0], d1[1], d2[0], d2[1]})
       if (std::abs(v) > max_offset) return nullptr;
@@ -865,7 +866,7 @@ class ShapeTable {
     }
     if (4 * (shapes_.size() + 1) > 3 * capacity) return nullptr;
     shapes_.push_back(build_shape(d1, d2, phase, row_floats_, C_, cubic_,
-                                  std::min(max_listed_pixels, listed_budget_ - listed_)));
+                                  std::min(max_listed_pixels, listed_budget - listed_)));
     listed_ += static_cast<long long>(shapes_.back().placed.size());
     slots_[h].shape.store(&shapes_.back(), std::memory_order_release);
     slots_[h].key.store(key, std::memory_order_release);
@@ -881,7 +882,7 @@ class ShapeTable {
   // Offsets up to 64 pixels; pixel lists for shapes of up to 4096 pixels,
   // 2^20 pixels in all (at most 112 MB with the cubic's monomials).
   static constexpr int capacity_bits = 14, max_offset = 64;
-  static constexpr long long max_listed_pixels = 4096, listed_budget_ = 1 << 20;
+  static constexpr long long max_listed_pixels = 4096, listed_budget = 1 << 20;
   long long listed_ = 0;
   static constexpr std::size_t capacity = std::size_t(1) << capacity_bits;
   struct Slot {
