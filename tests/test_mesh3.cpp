@@ -92,7 +92,8 @@ TEST_CASE("flip 2-3 and 3-2: hand-built bipyramid, and flipping back restores th
 
   // The new edge d-e (3, 4) has a closed ring of three: 3-2 restores.
   index_t t = 0;
-  while (!(std::count(&m.tet[4 * t], &m.tet[4 * t + 4], 3) && std::count(&m.tet[4 * t], &m.tet[4 * t + 4], 4))) ++t;
+  auto has = [&](index_t tet, index_t v) { return std::count(m.tet.data() + 4 * tet, m.tet.data() + 4 * tet + 4, v) > 0; };
+  while (!(has(t, 3) && has(t, 4))) ++t;
   FlipPlan plans[2];
   REQUIRE(plan_edge_flips(m, t, 3, 4, plans) == 1);
   CHECK(plans[0].kind == FlipKind::flip32);
@@ -132,8 +133,10 @@ TEST_CASE("flip 4-4: octahedron, both coplanar diagonals offered, result valid")
     CHECK(cgal_is_valid(m));
     CHECK(m.tet_count() == 4);
     CHECK(total_volume(m) == doctest::Approx(4.0 / 3.0).epsilon(1e-14));
-    for (index_t t = 0; t < 4; ++t)  // edge a-b is gone
-      CHECK_FALSE((std::count(&m.tet[4 * t], &m.tet[4 * t + 4], 0) && std::count(&m.tet[4 * t], &m.tet[4 * t + 4], 1)));
+    for (index_t t = 0; t < 4; ++t) {  // edge a-b is gone
+      const index_t* corners = m.tet.data() + 4 * t;
+      CHECK_FALSE((std::count(corners, corners + 4, 0) && std::count(corners, corners + 4, 1)));
+    }
   }
   // Lift one ring vertex out of the plane: that diagonal is no longer a 4-4.
   std::vector<Point3> q = p;
