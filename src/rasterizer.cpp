@@ -589,7 +589,7 @@ struct Piece {
   Piece(const Scene& scene, index_t t, const index_t corner[3], const Point2 position[3], bool all_exact,
         long long pixels)
       : id(corner), p(position), exact(all_exact) {
-    const double area2 = (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[1].y - p[0].y) * (p[2].x - p[0].x);
+    const double area2 = signed_area2(p[0], p[1], p[2]);
     shader.init(scene, t, id, p[0], p[1], p[2], area2, pixels);
   }
 
@@ -816,7 +816,7 @@ Shape build_shape(const int d1[2], const int d2[2], const Point2& phase, std::pt
     shape.min_ox = std::min(shape.min_ox, xs), shape.max_ox = std::max(shape.max_ox, xe - 1), shape.max_oy = row;
   }
   if (shape.pixel_count == 0 || shape.pixel_count > list_limit) return shape;
-  const double inv_area2 = 1.0 / ((q[1].x - q[0].x) * (q[2].y - q[0].y) - (q[1].y - q[0].y) * (q[2].x - q[0].x));
+  const double inv_area2 = 1.0 / signed_area2(q[0], q[1], q[2]);
   for (const auto& [row, xs, xe] : shape.rows) {
     shape.row_first.push_back(shape.placed.size());
     for (int x = xs; x < xe; ++x) {
@@ -837,6 +837,20 @@ Shape build_shape(const int d1[2], const int d2[2], const Point2& phase, std::pt
   return shape;
 }
 
+// A lattice triangle's offsets in whole output pixels: d1 = p1 - p0 and
+// d2 = p2 - p0 (exact integers on a lattice).
+void shape_offsets(const Point2 p[3], int d1[2], int d2[2]) {
+  d1[0] = static_cast<int>(p[1].x - p[0].x), d1[1] = static_cast<int>(p[1].y - p[0].y);
+  d2[0] = static_cast<int>(p[2].x - p[0].x), d2[1] = static_cast<int>(p[2].y - p[0].y);
+}
+
+// The offsets packed in 16 bits each (unique for offsets below 2^15).
+std::uint64_t shape_key(const int d1[2], const int d2[2]) {
+  std::uint64_t key = 0;
+  for (int v : {d1[0], d1[1], d2[0], d2[1]}) key = key << 16 | static_cast<std::uint16_t>(v);
+  return key;
+}
+
 // The shapes met so far, shared by the threads drawing: lookups without a
 // lock (a slot's shape is published before its key), insertions under one.
 class ShapeTable {
@@ -849,8 +863,7 @@ class ShapeTable {
   const Shape* find(const int d1[2], const int d2[2], const Point2& phase) {
     for (int v : {d1[0], d1[1], d2[0], d2[1]})
       if (std::abs(v) > max_offset) return nullptr;
-    std::uint64_t key = 0;
-    for (int v : {d1[0], d1[1], d2[0], d2[1]}) key = key << 16 | static_cast<std::uint16_t>(v);
+    const std::uint64_t key = shape_key(d1, d2);
     if (key == 0) return nullptr;  // no triangle; key 0 marks empty slots
     std::size_t h = static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> (64 - capacity_bits));
     for (;; h = (h + 1) & (capacity - 1)) {
@@ -908,11 +921,10 @@ bool shapes_repeat(const Scene& scene) {
   for (index_t i = 0; i < n; ++i) {
     index_t id[3];
     scene.corners(i * step, id);
-    const Point2 p0 = scene.pos(id[0]), p1 = scene.pos(id[1]), p2 = scene.pos(id[2]);
-    std::uint64_t key = 0;
-    for (double d : {p1.x - p0.x, p1.y - p0.y, p2.x - p0.x, p2.y - p0.y})
-      key = key << 16 | static_cast<std::uint16_t>(static_cast<int>(d));
-    keys.push_back(key);
+    const Point2 p[3] = {scene.pos(id[0]), scene.pos(id[1]), scene.pos(id[2])};
+    int d1[2], d2[2];
+    shape_offsets(p, d1, d2);
+    keys.push_back(shape_key(d1, d2));
   }
   std::sort(keys.begin(), keys.end());
   const auto distinct = std::unique(keys.begin(), keys.end()) - keys.begin();
@@ -931,8 +943,8 @@ void draw_by_shape(const Scene& scene, index_t t, ShapeTable& table, const Point
   for (int i = 0; i < 3; ++i) p[i] = scene.pos(id[i]);
   if (std::max({p[0].y, p[1].y, p[2].y}) < row0 || std::min({p[0].y, p[1].y, p[2].y}) >= row1) return;  // rows y_min <= Y < y_max
   const int bx = floor_int(p[0].x), by = floor_int(p[0].y);
-  const int d1[2] = {static_cast<int>(p[1].x - p[0].x), static_cast<int>(p[1].y - p[0].y)};
-  const int d2[2] = {static_cast<int>(p[2].x - p[0].x), static_cast<int>(p[2].y - p[0].y)};
+  int d1[2], d2[2];
+  shape_offsets(p, d1, d2);
   const Shape* shape = table.find(d1, d2, phase);
   if (!shape) own = table.rows_of(d1, d2, phase), shape = &own;
   if (shape->pixel_count == 0 || by + shape->max_oy < row0 || by + shape->min_oy >= row1) return;
@@ -946,7 +958,7 @@ void draw_by_shape(const Scene& scene, index_t t, ShapeTable& table, const Point
   float* const image = out.pixels.data();
   if constexpr (!cubic) {
     Shader<CT, false> shader;
-    const double area2 = (p[1].x - p[0].x) * (p[2].y - p[0].y) - (p[1].y - p[0].y) * (p[2].x - p[0].x);
+    const double area2 = signed_area2(p[0], p[1], p[2]);
     shader.init(scene, t, id, p[0], p[1], p[2], area2, 0);
     if (!clipped && !shape->placed.empty()) {
       // One loop over the pixels, no loop per row: rows of 1 to 4 pixels
