@@ -80,6 +80,9 @@ int run_eval_command(int argc, char** argv) {
       ->delimiter(',');
   app.add_flag("--luma-cost", luma_cost, "DDT flips decided on luminance only");
   std::string slopes = "mc4";
+  std::string model = "box";
+  app.add_option("--model", model, "acquisition model of the ddt methods: box, gauss:SIGMA, bicubic, point")
+      ->capture_default_str();
   app.add_option("--slopes", slopes, "slope limiter of the cubic render: mc4, mc, central, minmod")
       ->check(CLI::IsMember({"mc4", "mc", "central", "minmod"}))
       ->capture_default_str();
@@ -109,6 +112,7 @@ int run_eval_command(int argc, char** argv) {
     ddt::UpscaleOptions ddt_options;
     ddt_options.luma_cost = luma_cost;
     ddt_options.slopes = slopes;
+    ddt_options.model = ddt::parse_acquisition_model(model);
     ddt_options.optimizer = optimizer;
     ddt_options.anneal.seed = seed;
     ddt::EvalOptions options;

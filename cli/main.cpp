@@ -48,6 +48,7 @@ struct Arguments {
   ddt::AnnealOptions anneal;  // --seed and the --anneal-* schedule
   std::string render = "cubic";
   std::string slopes = "mc4";
+  std::string model = "box";
   std::string compare;    // classic method shown left of DDT, or empty
   std::string mesh_view;  // path of the mesh drawing, or empty
   std::string mesh_roi;   // x,y,w,h
@@ -107,6 +108,20 @@ int run_upscale(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--slopes", args.slopes, "cubic render: slope limiter of the vertex gradients: mc4, mc, central, minmod")
       ->check(CLI::IsMember({"mc4", "mc", "central", "minmod"}))
+      ->capture_default_str();
+  app.add_option("--model", args.model,
+                 "how an input pixel was made: box (its area's average, default), gauss:SIGMA (the area blurred "
+                 "by a Gaussian PSF of SIGMA input pixels), bicubic (MATLAB's antialiased imresize, the SR "
+                 "benchmark's) or point (a sample at its centre: the plain interpolation). The output, mapped "
+                 "back by the model, reproduces the input")
+      ->check([](const std::string& text) {
+        try {
+          ddt::parse_acquisition_model(text);
+          return std::string();
+        } catch (const std::exception& e) {
+          return std::string(e.what());
+        }
+      })
       ->capture_default_str();
   app.add_flag("--no-optimize", args.no_optimize, "skip the flips: render the initial Delaunay mesh");
   app.add_option("--tolerance", args.tolerance, "a flip must lower the local cost by more than this fraction")
@@ -226,6 +241,7 @@ int run_upscale(int argc, char** argv) {
     options.optimize = !args.no_optimize;
     options.render = args.render;
     options.slopes = args.slopes;
+    options.model = ddt::parse_acquisition_model(args.model);
     options.relative_tolerance = args.tolerance;
     options.optimizer = args.optimizer;
     options.anneal = args.anneal;

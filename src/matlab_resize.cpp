@@ -21,19 +21,14 @@ double cubic(double x) {
   return 0;
 }
 
-// The taps of a 1-D resize: output sample o reads input samples
-// index[o * taps + k] (0-based, already mirrored) with weight[o * taps + k].
-struct Contributions {
-  int taps = 0;
-  std::vector<int> index;
-  std::vector<double> weight;
-};
+}  // namespace
 
 // MATLAB's contributions(): same formulas, same order of operations.
-Contributions contributions(int in_length, int out_length, double scale) {
+MatlabTaps matlab_taps(int in_length, int out_length) {
+  const double scale = static_cast<double>(out_length) / in_length;
   const bool antialias = scale < 1;
   const double kernel_width = antialias ? 4.0 / scale : 4.0;
-  Contributions c;
+  MatlabTaps c;
   c.taps = static_cast<int>(std::ceil(kernel_width)) + 2;
   c.index.resize(static_cast<std::size_t>(out_length) * c.taps);
   c.weight.resize(c.index.size());
@@ -60,6 +55,8 @@ Contributions contributions(int in_length, int out_length, double scale) {
   return c;
 }
 
+namespace {
+
 // A double-precision raster with the layout of ddt::Image.
 struct Plane {
   int width = 0, height = 0, channels = 0;
@@ -72,8 +69,7 @@ struct Plane {
 // One separable pass: resizes the width (along_x) or the height to out_length.
 Plane resize_along(const Plane& in, bool along_x, int out_length) {
   const int in_length = along_x ? in.width : in.height;
-  const Contributions c =
-      contributions(in_length, out_length, static_cast<double>(out_length) / in_length);
+  const MatlabTaps c = matlab_taps(in_length, out_length);
   Plane out;
   out.width = along_x ? out_length : in.width;
   out.height = along_x ? in.height : out_length;

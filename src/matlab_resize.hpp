@@ -37,7 +37,19 @@
 
 #include "image.hpp"
 
+#include <vector>
+
 namespace ddt {
+
+// The taps of one 1-D pass from in_length to out_length samples: output
+// sample o reads input samples index[o * taps + k] (0-based, mirrored at the
+// borders) with weight[o * taps + k]; each output's weights sum to 1.
+struct MatlabTaps {
+  int taps = 0;
+  std::vector<int> index;
+  std::vector<double> weight;
+};
+MatlabTaps matlab_taps(int in_length, int out_length);
 
 Image matlab_imresize_bicubic(const Image& src, int out_width, int out_height);
 

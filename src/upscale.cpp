@@ -1,5 +1,6 @@
 #include "upscale.hpp"
 
+#include "consistent_reconstruction.hpp"
 #include "costs.hpp"
 #include "cubic_surface.hpp"
 #include "error.hpp"
@@ -91,6 +92,10 @@ LawsonStats run_band(const Image& src, const Band& band, int out_width, int out_
     mesh = delaunay_triangulation(points);
   }
   const double seconds_triangulate = seconds_since(t0);
+  // The consistent reconstruction's well-conditioned half needs the mesh before flips.
+  const bool consistent = options.model.kind != AcquisitionModel::Kind::point;
+  Mesh2 grid_mesh;
+  if (consistent) grid_mesh = mesh;
   local.seconds_triangulate += seconds_triangulate;
   local.triangles += mesh.triangle_count();
   log("triangulate: " + std::to_string(mesh.points.size()) + " points, " + std::to_string(mesh.triangle_count()) +
@@ -170,6 +175,26 @@ LawsonStats run_band(const Image& src, const Band& band, int out_width, int out_
   log("render: " + std::to_string(out_width) + "x" + std::to_string(band.out_end - band.out_first) + ", " +
       std::to_string(rs.triangles) + " + " + std::to_string(rs.rim_triangles) + " rim triangles, " +
       std::to_string(seconds_render) + " s");
+  if (consistent) {
+    if (!whole) throw Error("the consistent reconstruction does not run in tiles yet");
+    t0 = std::chrono::steady_clock::now();
+    if (progress) progress->begin(label + "consistency");
+    ConsistencyOptions co;
+    co.model = options.model;
+    ConsistencyStats cs;
+    make_consistent(out, mesh, grid_mesh, src, co, &cs);
+    local.consistency_iterations = cs.iterations;
+    local.consistency_residual = cs.residual_after;
+    local.seconds_consistency = seconds_since(t0);
+    char line[240];
+    std::snprintf(line, sizeof line,
+                  "consistency (%s): residual %.3g, %.3g after %d steps on the mesh, %.3g after %d on the grid; "
+                  "%lld nonzeros; operators %.3f s, solve %.3f s, render %.3f s",
+                  to_string(options.model).c_str(), cs.residual_before, cs.residual_mesh, cs.mesh_steps,
+                  cs.residual_after, cs.iterations,
+                  cs.nonzeros, cs.seconds_operator, cs.seconds_solve, cs.seconds_render);
+    log(line);
+  }
   return ls;
 }
 
@@ -195,7 +220,8 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
   // only with Lawson (annealing's random moves span the image; the
   // look-ahead's sweeps have no region schedule).
   int tile_rows = 0;
-  const bool can_tile = W >= 2 && H >= 2 && options.optimizer == "lawson";
+  const bool can_tile = W >= 2 && H >= 2 && options.optimizer == "lawson" &&
+                        options.model.kind == AcquisitionModel::Kind::point;
   if (can_tile && options.tile_rows > 0) {
     tile_rows = options.tile_rows;
   } else if (can_tile && options.tile_rows == 0) {

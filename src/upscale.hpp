@@ -12,6 +12,7 @@
 //
 // Errors: throws ddt::Error (bad options, empty image).
 
+#include "acquisition_model.hpp"
 #include "annealing.hpp"
 #include "image.hpp"
 #include "progress.hpp"
@@ -39,6 +40,11 @@ struct UpscaleOptions {
   // paper's piecewise-linear surface).
   std::string render = "cubic";
   std::string slopes = "mc4";       // slope limiter of the cubic mode: mc4, mc, central, minmod
+  // How an input pixel was made (acquisition_model.hpp): box (default), the
+  // output's footprint averages reproduce the input (the consistent
+  // reconstruction, consistent_reconstruction.hpp); point: the surface
+  // interpolates the samples, no correction.
+  AcquisitionModel model;
   std::function<void(const std::string&)> log;  // verbose lines; may be empty
   // Speed and memory (docs/performance.md). Regions of the parallel
   // optimizer in rows of input pixels: 0 automatic (optimizer.hpp), < 0
@@ -69,6 +75,10 @@ struct UpscaleStats {
   int regions = 1;       // optimizer regions (of the first tile)
   int tiles = 1;         // bands the image was processed in
   int tile_margin = 0;   // rows of overlap on each side of a tile
+  // The consistent reconstruction (model other than point).
+  int consistency_iterations = 0;
+  double consistency_residual = 0;  // max |input - acquire(output)| at input resolution, before rounding
+  double seconds_consistency = 0;
 };
 
 // Enlarges `src` to out_width x out_height (each >= 1).

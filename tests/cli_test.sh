@@ -46,6 +46,12 @@ run_ok "verbose" "$work/in.png" "$work/v.tif" --scale 2 --verbose --cost sederbe
 grep -q "flips" "$work/err.txt" && grep -q "render" "$work/err.txt" && ok || bad "--verbose reports no stages"
 run_ok "no optimize" "$work/in.png" "$work/n.png" --scale 2 --no-optimize
 run_ok "linear render" "$work/in.png" "$work/lin.png" --scale 2 --render linear
+for model in point box gauss:0.6 bicubic; do
+  run_ok "model $model" "$work/in.png" "$work/model.exr" --scale 3 --model "$model"
+done
+for model in gauss gauss: gauss:-1 gauss:abc Box area ""; do
+  run_fail "malformed --model '$model'" "$work/in.png" "$work/o.png" --scale 2 --model "$model"
+done
 run_ok "cubic render, mc slopes" "$work/in.png" "$work/cub.png" --scale 2 --render cubic --slopes mc
 run_fail "unknown render" "$work/in.png" "$work/o.png" --scale 2 --render spline
 
@@ -78,7 +84,7 @@ for f in one row col flat; do run_ok "degenerate $f" "$work/$f.png" "$work/${f}_
 
 # --help documents every option.
 run_ok "help" --help
-for opt in --scale --width --height --cost --cost-channel --no-optimize --tolerance --max-pixels --render --slopes --compare --mesh --mesh-roi --list-costs --verbose --quiet; do
+for opt in --scale --width --height --cost --cost-channel --no-optimize --tolerance --max-pixels --render --slopes --model --compare --mesh --mesh-roi --list-costs --verbose --quiet; do
   grep -q -- "$opt" "$work/out.txt" && ok || bad "--help does not mention $opt"
 done
 

@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <tuple>
 
 using namespace ddt;
 namespace fs = std::filesystem;
@@ -33,11 +34,16 @@ TEST_CASE("regression: every input and cost matches its golden output") {
   int compared = 0;
   for (const fs::path& input : inputs) {
     const ImageFile file = read_image(input.string());
-    std::vector<std::pair<std::string, std::string>> configs;  // (cost, render)
-    for (const CostFunction& cost : cost_functions()) configs.emplace_back(cost.name, "cubic");
-    for (const char* cost : {"sederberg", "variance"}) configs.emplace_back(cost, "linear");
-    for (const auto& [cost, render] : configs) {
-      const std::string name = input.stem().string() + "__" + cost + "__" + render + "__x3";
+    // (cost, render, model): every cost under the point model (the goldens
+    // named without a model), and the default box model's consistent
+    // reconstruction for both renders.
+    std::vector<std::tuple<std::string, std::string, std::string>> configs;
+    for (const CostFunction& cost : cost_functions()) configs.emplace_back(cost.name, "cubic", "point");
+    for (const char* cost : {"sederberg", "variance"}) configs.emplace_back(cost, "linear", "point");
+    for (const char* render : {"cubic", "linear"}) configs.emplace_back("sederberg", render, "box");
+    for (const auto& [cost, render, model] : configs) {
+      const std::string name =
+          input.stem().string() + "__" + cost + "__" + render + (model == "point" ? "" : "__" + model) + "__x3";
       CAPTURE(name);
       const fs::path golden_path = regression_dir / "golden" / (name + ".exr");
       // A new cost needs goldens: run scripts/regenerate_goldens.sh and commit them.
@@ -47,6 +53,7 @@ TEST_CASE("regression: every input and cost matches its golden output") {
       UpscaleOptions options;
       options.cost = cost;
       options.render = render;
+      options.model = parse_acquisition_model(model);
       options.alpha_channel = file.alpha_channel;
       const Image out = upscale(file.image, 3 * file.image.width, 3 * file.image.height, options);
       REQUIRE(out.width == golden.image.width);

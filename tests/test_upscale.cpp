@@ -30,6 +30,7 @@ TEST_CASE("upscale: alpha is interpolated but never drives flips") {
     for (int x = 0; x < 12; ++x) in.at(x, y, 3) = u(rng);
   UpscaleOptions opt;
   opt.alpha_channel = 3;
+  opt.model.kind = AcquisitionModel::Kind::point;  // samples reproduced
   UpscaleStats st;
   const Image out = upscale(in, 36, 36, opt, &st);
   CHECK(st.flips == 0);
@@ -61,7 +62,9 @@ TEST_CASE("upscale: bad options are errors, not crashes") {
 TEST_CASE("upscale: degenerate shapes (1x1, a row, a column) work") {
   for (auto [w, h] : {std::pair{1, 1}, std::pair{7, 1}, std::pair{1, 7}}) {
     Image in = test::sampled_image(w, h, 1, [](double x, double y, int) { return 0.1 * x + 0.1 * y; });
-    const Image out = upscale(in, w * 3, h * 3);
+    UpscaleOptions point;
+    point.model.kind = AcquisitionModel::Kind::point;
+    const Image out = upscale(in, w * 3, h * 3, point);
     CHECK(out.width == w * 3);
     CHECK(out.at(3 * (w - 1) + 1, 3 * (h - 1) + 1) == doctest::Approx(in.at(w - 1, h - 1)));
     CHECK(out.at(0, 0) == doctest::Approx(in.at(0, 0)));
@@ -113,6 +116,7 @@ TEST_CASE("upscale: both render modes reproduce the samples exactly at scale 3")
     CAPTURE(render);
     UpscaleOptions opt;
     opt.render = render;
+    opt.model.kind = AcquisitionModel::Kind::point;
     const Image out = upscale(in, 30, 24, opt);
     for (int j = 0; j < 8; ++j)
       for (int i = 0; i < 10; ++i)
@@ -125,7 +129,9 @@ TEST_CASE("upscale: the cubic render reproduces a linear ramp, clamped outside t
   const Image in = test::sampled_image(w, h, 1, [](double x, double y, int) { return 0.2 + 0.03 * x - 0.02 * y; });
   for (double scale : {2.0, 3.7}) {
     const int ow = int(std::round(w * scale)), oh = int(std::round(h * scale));
-    const Image out = upscale(in, ow, oh);
+    UpscaleOptions point;
+    point.model.kind = AcquisitionModel::Kind::point;
+    const Image out = upscale(in, ow, oh, point);
     double worst = 0;
     for (int Y = 0; Y < oh; ++Y)
       for (int X = 0; X < ow; ++X) {
@@ -145,7 +151,9 @@ TEST_CASE("upscale: no ringing halos and no staircase along edges of the synthet
     CAPTURE(name);
     const Image lr = render_scene(find_scene(name), w, w);
     const Image hr = render_scene(find_scene(name), w * s, w * s);
-    const Image out = upscale(lr, w * s, w * s);
+    UpscaleOptions point;  // the 3x3-input-range bound is the point model's
+    point.model.kind = AcquisitionModel::Kind::point;
+    const Image out = upscale(lr, w * s, w * s, point);
     const Image bicubic = matlab_imresize_bicubic(lr, w * s, w * s);
     auto overshoot = [&](const Image& img) {
       double worst = 0;

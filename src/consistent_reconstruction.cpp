@@ -1,0 +1,162 @@
+#include "consistent_reconstruction.hpp"
+
+#include "error.hpp"
+#include "footprint_operator.hpp"
+#include "rasterizer.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+
+namespace ddt {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+constexpr int max_channels = 16;
+using PerChannel = std::array<double, max_channels>;
+
+PerChannel dot(const std::vector<double>& a, const std::vector<double>& b, int C) {
+  PerChannel d{};
+  for (std::size_t i = 0; i < a.size(); ++i) d[i % C] += a[i] * b[i];
+  return d;
+}
+
+double max_abs(const std::vector<double>& a) {
+  double m = 0;
+  for (double v : a) m = std::max(m, std::abs(v));
+  return m;
+}
+
+double norm2(const std::vector<double>& a) {
+  double m = 0;
+  for (double v : a) m += v * v;
+  return m;
+}
+
+// Back-projection x += b - A x from x = 0 while the residual's 2-norm falls
+// by at least `min_gain` per step, at most `steps` steps. Returns b - A x.
+std::vector<double> back_project(const SparseRows& A, const std::vector<double>& b, std::vector<double>& x, int C,
+                                 int steps, double min_gain, int* done) {
+  x.assign(b.size(), 0.0);
+  std::vector<double> r = b, ax, best_x = x, best_r = r;
+  double best = norm2(r);
+  *done = 0;
+  for (int k = 0; k < steps; ++k) {
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] += r[i];
+    A.multiply(x, ax, C);
+    for (std::size_t i = 0; i < x.size(); ++i) r[i] = b[i] - ax[i];
+    const double now = norm2(r);
+    if (!(now < best * (1 - min_gain))) break;
+    best = now;
+    best_x = x;
+    best_r = r;
+    *done = k + 1;
+  }
+  x = best_x;
+  return best_r;
+}
+
+// Solves A x = b for C interleaved right-hand sides at once: BiCGSTAB with
+// the Jacobi preconditioner, each channel with its own scalars (van der
+// Vorst 1992, the preconditioned form). Stops when max |b - A x| <= tol.
+int bicgstab(const SparseRows& A, const std::vector<double>& b, std::vector<double>& x, int C, int max_iterations,
+             double tol, double* final_residual) {
+  const std::size_t n = b.size();
+  std::vector<double> inv_diag(A.rows, 1.0);
+  for (int i = 0; i < A.rows; ++i)
+    for (std::int64_t k = A.start[i]; k < A.start[i + 1]; ++k)
+      if (A.col[k] == i && std::abs(A.weight[k]) > 1e-3) inv_diag[i] = 1.0 / A.weight[k];
+  auto precondition = [&](const std::vector<double>& in, std::vector<double>& out) {
+    out.resize(n);
+    for (std::size_t i = 0; i < n; ++i) out[i] = inv_diag[i / C] * in[i];
+  };
+  x.assign(n, 0.0);
+  std::vector<double> r = b, r0 = b, p(n, 0.0), v(n, 0.0), s(n), t(n), ph, sh;
+  PerChannel rho{}, alpha{}, omega{};
+  rho.fill(1);
+  alpha.fill(1);
+  omega.fill(1);
+  double residual = max_abs(r);
+  int it = 0;
+  for (; it < max_iterations && residual > tol; ++it) {
+    const PerChannel rho_new = dot(r0, r, C);
+    for (std::size_t i = 0; i < n; ++i) {
+      const int c = static_cast<int>(i % C);
+      const double beta = rho[c] != 0 && omega[c] != 0 ? (rho_new[c] / rho[c]) * (alpha[c] / omega[c]) : 0;
+      p[i] = r[i] + beta * (p[i] - omega[c] * v[i]);
+    }
+    rho = rho_new;
+    precondition(p, ph);
+    A.multiply(ph, v, C);
+    const PerChannel r0v = dot(r0, v, C);
+    for (int c = 0; c < C; ++c) alpha[c] = r0v[c] != 0 ? rho[c] / r0v[c] : 0;
+    for (std::size_t i = 0; i < n; ++i) s[i] = r[i] - alpha[i % C] * v[i];
+    precondition(s, sh);
+    A.multiply(sh, t, C);
+    const PerChannel ts = dot(t, s, C), tt = dot(t, t, C);
+    for (int c = 0; c < C; ++c) omega[c] = tt[c] != 0 ? ts[c] / tt[c] : 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const int c = static_cast<int>(i % C);
+      x[i] += alpha[c] * ph[i] + omega[c] * sh[i];
+      r[i] = s[i] - omega[c] * t[i];
+    }
+    residual = max_abs(r);
+  }
+  // The true residual (the recursive one drifts).
+  std::vector<double> ax;
+  A.multiply(x, ax, C);
+  double true_residual = 0;
+  for (std::size_t i = 0; i < n; ++i) true_residual = std::max(true_residual, std::abs(b[i] - ax[i]));
+  *final_residual = true_residual;
+  return it;
+}
+
+}  // namespace
+
+void make_consistent(Image& out, const Mesh2& mesh, const Mesh2& grid_mesh, const Image& src,
+                     const ConsistencyOptions& options, ConsistencyStats* stats) {
+  if (options.model.kind == AcquisitionModel::Kind::point) return;
+  const int W = src.width, H = src.height, C = src.channels;
+  if (C > max_channels) throw Error("the consistent reconstruction takes at most 16 channels");
+  ConsistencyStats local;
+
+  auto t0 = std::chrono::steady_clock::now();
+  const SparseRows A = footprint_operator(mesh, W, H, out.width, out.height, options.model);
+  const SparseRows G = footprint_operator(grid_mesh, W, H, out.width, out.height, options.model);
+  local.nonzeros = static_cast<long long>(A.col.size());
+  local.seconds_operator = seconds_since(t0);
+
+  t0 = std::chrono::steady_clock::now();
+  const Image predicted = apply_acquisition(options.model, out, W, H);
+  std::vector<double> residual(src.pixels.size());
+  for (std::size_t i = 0; i < residual.size(); ++i) residual[i] = double(src.pixels[i]) - predicted.pixels[i];
+  local.residual_before = max_abs(residual);
+  std::vector<double> delta_mesh, delta_grid;
+  const std::vector<double> rest =
+      back_project(A, residual, delta_mesh, C, options.mesh_steps, 0.01, &local.mesh_steps);
+  local.residual_mesh = max_abs(rest);
+  local.iterations =
+      bicgstab(G, rest, delta_grid, C, options.max_iterations, options.tolerance, &local.residual_after);
+  local.seconds_solve = seconds_since(t0);
+
+  t0 = std::chrono::steady_clock::now();
+  RenderGrid grid;
+  grid.width = out.width;
+  grid.height = out.height;
+  grid.scale_x = static_cast<double>(out.width) / W;
+  grid.scale_y = static_cast<double>(out.height) / H;
+  const Image c1 = render_mesh(mesh, std::vector<float>(delta_mesh.begin(), delta_mesh.end()), C, grid);
+  const Image c2 = render_mesh(grid_mesh, std::vector<float>(delta_grid.begin(), delta_grid.end()), C, grid);
+  tbb::parallel_for(std::size_t(0), out.pixels.size(),
+                    [&](std::size_t i) { out.pixels[i] += c1.pixels[i] + c2.pixels[i]; });
+  local.seconds_render = seconds_since(t0);
+  if (stats) *stats = local;
+}
+
+}  // namespace ddt

@@ -1,0 +1,55 @@
+#pragma once
+// ddt::make_consistent — the consistent reconstruction: the output,
+// mapped back to the input grid by the acquisition model
+// (acquisition_model.hpp), reproduces the input.
+//
+// The rendered surface O0 (cubic or linear, on the optimized mesh) is
+// corrected in two parts, both solved at input resolution:
+//   1. on the data-dependent mesh: a few back-projection steps
+//      delta1 += r - A delta1 (A = footprint_operator(mesh)), kept while they
+//      lower the residual. The correction follows the edges the flips
+//      found instead of ringing across them; but a mesh with long thin
+//      triangles makes A ill-conditioned (a vertex of thin triangles has
+//      little weight in its own footprint), so it is not solved exactly.
+//   2. on the unflipped Delaunay mesh of the grid, whose operator G is
+//      well-conditioned: G delta2 = the rest, solved to the tolerance
+//      (Jacobi-preconditioned BiCGSTAB, a handful of iterations).
+//   O = O0 + render_linear(mesh, delta1) + render_linear(grid_mesh, delta2),
+// so that acquire(O) = src within the tolerance, whatever the scale.
+// docs/consistency.md has the measurements behind these choices.
+//
+// Inputs:
+//   out        the rendered surface, out_width x out_height x C, C <= 16
+//              (corrected in place)
+//   mesh       the mesh it was rendered from; its points the pixel centres of src
+//   grid_mesh  the Delaunay triangulation of the same points (before flips)
+//   src        the input image, width x height x C
+// Errors: throws ddt::Error when a mesh is not src's pixel grid.
+
+#include "acquisition_model.hpp"
+#include "image.hpp"
+#include "mesh.hpp"
+
+namespace ddt {
+
+struct ConsistencyOptions {
+  AcquisitionModel model;       // not point
+  int mesh_steps = 2;           // back-projection steps on the data-dependent mesh (at most)
+  int max_iterations = 200;     // BiCGSTAB iterations on the grid, each two products with G
+  double tolerance = 1e-6;      // stop when every input pixel is reproduced within this
+};
+
+struct ConsistencyStats {
+  int mesh_steps = 0;           // back-projection steps kept
+  int iterations = 0;           // BiCGSTAB iterations
+  double residual_mesh = 0;     // max residual after the mesh steps
+  double residual_before = 0;   // max |src - acquire(O0)| over pixels and channels
+  double residual_after = 0;    // the same for the solved delta, at input resolution
+  long long nonzeros = 0;       // of A
+  double seconds_operator = 0, seconds_solve = 0, seconds_render = 0;
+};
+
+void make_consistent(Image& out, const Mesh2& mesh, const Mesh2& grid_mesh, const Image& src,
+                     const ConsistencyOptions& options, ConsistencyStats* stats = nullptr);
+
+}  // namespace ddt

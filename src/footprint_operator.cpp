@@ -1,0 +1,250 @@
+#include "footprint_operator.hpp"
+
+#include "error.hpp"
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace ddt {
+namespace {
+
+// Side of p relative to u->v, exact, the (eps, eps^2) perturbation of p
+// deciding ties: +1 left, -1 right, never 0 (as the rasterizer's).
+int perturbed_side(const Point2& u, const Point2& v, const Point2& p) {
+  const double det = signed_area2(u, v, p);
+  const double bound = 1e-14 * (std::abs((v.x - u.x) * (p.y - u.y)) + std::abs((v.y - u.y) * (p.x - u.x)));
+  int s = det > bound ? 1 : det < -bound ? -1 : orientation(u, v, p);
+  if (s != 0) return s;
+  if (u.y != v.y) return u.y > v.y ? 1 : -1;
+  return v.x > u.x ? 1 : -1;
+}
+
+bool owns(const Point2& a, const Point2& b, const Point2& c, const Point2& p) {
+  return perturbed_side(a, b, p) > 0 && perturbed_side(b, c, p) > 0 && perturbed_side(c, a, p) > 0;
+}
+
+// Every output pixel whose centre lies strictly inside the hull box, its
+// owning triangle; -1 for the others (the rim).
+std::vector<index_t> pixel_owners(const Mesh2& mesh, int W, int H, int out_w, int out_h) {
+  const double sx = static_cast<double>(out_w) / W, sy = static_cast<double>(out_h) / H;
+  std::vector<index_t> owner(static_cast<std::size_t>(out_w) * out_h, -1);
+  tbb::parallel_for(index_t(0), mesh.triangle_count(), [&](index_t t) {
+    const Point2& a = mesh.points[mesh.tri[3 * t]];
+    const Point2& b = mesh.points[mesh.tri[3 * t + 1]];
+    const Point2& c = mesh.points[mesh.tri[3 * t + 2]];
+    const double ymin = std::min({a.y, b.y, c.y}), ymax = std::max({a.y, b.y, c.y});
+    const int Y0 = std::max(0, static_cast<int>(std::floor(ymin * sy - 0.5)));
+    const int Y1 = std::min(out_h - 1, static_cast<int>(std::ceil(ymax * sy - 0.5)));
+    const std::array<const Point2*, 3> v{&a, &b, &c};
+    for (int Y = Y0; Y <= Y1; ++Y) {
+      const double cy = (Y + 0.5) / sy;
+      if (!(cy > 0.5 && cy < H - 0.5) || cy < ymin || cy > ymax) continue;
+      double xl = INFINITY, xr = -INFINITY;
+      for (int k = 0; k < 3; ++k) {
+        const Point2& p = *v[k];
+        const Point2& q = *v[(k + 1) % 3];
+        if ((p.y <= cy && cy <= q.y) || (q.y <= cy && cy <= p.y)) {
+          const double x = p.y == q.y ? p.x : p.x + (cy - p.y) * (q.x - p.x) / (q.y - p.y);
+          if (p.y == q.y) xl = std::min({xl, p.x, q.x}), xr = std::max({xr, p.x, q.x});
+          else xl = std::min(xl, x), xr = std::max(xr, x);
+        }
+      }
+      if (xl > xr) continue;
+      int X0 = std::max(0, static_cast<int>(std::floor(xl * sx - 0.5)) - 1);
+      int X1 = std::min(out_w - 1, static_cast<int>(std::ceil(xr * sx - 0.5)) + 1);
+      auto inside = [&](int X) {
+        const double cx = (X + 0.5) / sx;
+        return cx > 0.5 && cx < W - 0.5 && owns(a, b, c, Point2{cx, cy});
+      };
+      while (X0 <= X1 && !inside(X0)) ++X0;
+      while (X1 >= X0 && !inside(X1)) --X1;
+      for (int X = X0; X <= X1; ++X) owner[static_cast<std::size_t>(Y) * out_w + X] = t;
+    }
+  });
+  return owner;
+}
+
+struct Entry {
+  index_t col;
+  double weight;
+};
+
+struct Triplet {
+  int x;  // footprint in the row
+  index_t col;
+  double w;
+};
+
+// Per-thread buffers of the row assembly.
+struct Scratch {
+  std::vector<Triplet> triplets, overflow;
+  std::vector<Entry> entries;
+  std::vector<int> count;
+};
+
+}  // namespace
+
+void SparseRows::multiply(const std::vector<double>& x, std::vector<double>& y, int channels) const {
+  y.assign(static_cast<std::size_t>(rows) * channels, 0.0);
+  tbb::parallel_for(tbb::blocked_range<int>(0, rows, 4096), [&](const tbb::blocked_range<int>& r) {
+    for (int i = r.begin(); i < r.end(); ++i) {
+      double* out = &y[static_cast<std::size_t>(i) * channels];
+      for (std::int64_t k = start[i]; k < start[i + 1]; ++k) {
+        const double* in = &x[static_cast<std::size_t>(col[k]) * channels];
+        for (int c = 0; c < channels; ++c) out[c] += weight[k] * in[c];
+      }
+    }
+  });
+}
+
+SparseRows footprint_operator(const Mesh2& mesh, int W, int H, int out_w, int out_h, const AcquisitionModel& model) {
+  if (mesh.points.size() != static_cast<std::size_t>(W) * H)
+    throw Error("footprint_operator: the mesh is not the pixel grid");
+  const AxisWeights wx = axis_weights(model, W, out_w), wy = axis_weights(model, H, out_h);
+  const std::vector<index_t> owner = pixel_owners(mesh, W, H, out_w, out_h);
+  const double sx = static_cast<double>(out_w) / W, sy = static_cast<double>(out_h) / H;
+
+  std::vector<std::vector<std::pair<int, double>>> by_row(H);  // input row -> (output row, weight)
+  for (int Y = 0; Y < out_h; ++Y)
+    for (int k = wy.first[Y]; k < wy.first[Y + 1]; ++k) by_row[wy.pixel[k]].push_back({Y, wy.weight[k]});
+
+  tbb::enumerable_thread_specific<Scratch> scratch_of;
+  // One input row of A at a time: (footprint x, vertex, weight) triplets,
+  // sorted and merged.
+  std::vector<std::vector<Entry>> row_entries(H);
+  std::vector<int> row_counts(static_cast<std::size_t>(W) * H, 0);
+  tbb::parallel_for(0, H, [&](int jy) {
+    std::vector<Triplet>& trip = scratch_of.local().triplets;
+    trip.clear();
+    // Pixels of one triangle in one footprint come in runs along a row: the
+    // barycentric coordinates are affine, so a run's sum of w * lambda is
+    // its total weight times lambda at its weighted mean centre.
+    struct Run {
+      int x = -1;
+      index_t t = -1;
+      double w = 0, wcx = 0;
+    };
+    std::vector<Run> open;
+    double cy = 0;
+    auto flush = [&](Run& r) {
+      if (r.t >= 0 && r.w != 0) {
+        const index_t* v = &mesh.tri[3 * r.t];
+        const Point2 &a = mesh.points[v[0]], &b = mesh.points[v[1]], &c = mesh.points[v[2]];
+        const double area = signed_area2(a, b, c);
+        const Point2 p{r.wcx / r.w, cy};
+        const double l0 = signed_area2(p, b, c) / area, l1 = signed_area2(a, p, c) / area;
+        trip.push_back({r.x, v[0], r.w * l0});
+        trip.push_back({r.x, v[1], r.w * l1});
+        trip.push_back({r.x, v[2], r.w * (1 - l0 - l1)});
+      }
+      r = Run{};
+    };
+    for (const auto& [Y, wrow] : by_row[jy]) {
+      cy = (Y + 0.5) / sy;
+      const bool rim_row = !(cy > 0.5 && cy < H - 0.5);
+      for (int X = 0; X < out_w; ++X) {
+        const double cx = (X + 0.5) / sx;
+        const index_t t = rim_row ? -1 : owner[static_cast<std::size_t>(Y) * out_w + X];
+        if (t >= 0) {
+          for (int k = wx.first[X]; k < wx.first[X + 1]; ++k) {
+            const double w = wrow * wx.weight[k];
+            auto it = std::find_if(open.begin(), open.end(), [&](const Run& r) { return r.x == wx.pixel[k]; });
+            if (it == open.end()) it = open.insert(open.end(), Run{});
+            if (it->t != t) {
+              flush(*it);
+              it->x = wx.pixel[k];
+              it->t = t;
+            }
+            it->w += w;
+            it->wcx += w * cx;
+          }
+          // Runs of footprints this pixel no longer reaches are complete.
+          if (open.size() > static_cast<std::size_t>(wx.first[X + 1] - wx.first[X])) {
+            for (Run& r : open)
+              if (r.x < wx.pixel[wx.first[X]]) flush(r);
+            open.erase(std::remove_if(open.begin(), open.end(), [](const Run& r) { return r.t < 0; }), open.end());
+          }
+          continue;
+        }
+        // The rim: the clamped centre, linear between grid neighbours.
+        std::array<Entry, 2> e{};
+        int ne = 0;
+        const double px = std::clamp(cx, 0.5, W - 0.5) - 0.5, py = std::clamp(cy, 0.5, H - 0.5) - 0.5;
+        const int ix = std::min(W - 1, static_cast<int>(px)), iy = std::min(H - 1, static_cast<int>(py));
+        const double fx = px - ix, fy = py - iy;
+        if (fx > 0) {
+          e[ne++] = {iy * W + ix, 1 - fx};
+          e[ne++] = {iy * W + ix + 1, fx};
+        } else if (fy > 0) {
+          e[ne++] = {iy * W + ix, 1 - fy};
+          e[ne++] = {(iy + 1) * W + ix, fy};
+        } else {
+          e[ne++] = {iy * W + ix, 1};
+        }
+        for (int k = wx.first[X]; k < wx.first[X + 1]; ++k) {
+          const double w = wrow * wx.weight[k];
+          for (int i = 0; i < ne; ++i) trip.push_back({wx.pixel[k], e[i].col, w * e[i].weight});
+        }
+      }
+      for (Run& r : open) flush(r);
+      open.clear();
+    }
+    // Merge by footprint and vertex: a few entries per footprint, searched
+    // in place; the rare footprint with more spills to `overflow`.
+    constexpr int capacity = 32;
+    Scratch& scratch = scratch_of.local();
+    scratch.entries.resize(static_cast<std::size_t>(W) * capacity);
+    scratch.count.assign(W, 0);
+    scratch.overflow.clear();
+    for (const Triplet& t : trip) {
+      Entry* list = &scratch.entries[static_cast<std::size_t>(t.x) * capacity];
+      int& n = scratch.count[t.x];
+      int i = 0;
+      while (i < n && list[i].col != t.col) ++i;
+      if (i < n) list[i].weight += t.w;
+      else if (n < capacity) list[n++] = {t.col, t.w};
+      else scratch.overflow.push_back({t.x, t.col, t.w});
+    }
+    std::sort(scratch.overflow.begin(), scratch.overflow.end(),
+              [](const Triplet& p, const Triplet& q) { return p.x < q.x; });
+    std::size_t next_overflow = 0;
+    std::vector<Entry>& out = row_entries[jy];
+    out.clear();
+    for (int x = 0; x < W; ++x) {
+      Entry* list = &scratch.entries[static_cast<std::size_t>(x) * capacity];
+      const std::size_t begin = out.size();
+      out.insert(out.end(), list, list + scratch.count[x]);
+      for (; next_overflow < scratch.overflow.size() && scratch.overflow[next_overflow].x == x; ++next_overflow) {
+        const auto& [ox, col, w] = scratch.overflow[next_overflow];
+        auto it = std::find_if(out.begin() + static_cast<std::ptrdiff_t>(begin), out.end(),
+                               [&](const Entry& e) { return e.col == col; });
+        if (it == out.end()) out.push_back({col, w});
+        else it->weight += w;
+      }
+      std::sort(out.begin() + static_cast<std::ptrdiff_t>(begin), out.end(),
+                [](const Entry& p, const Entry& q) { return p.col < q.col; });
+      row_counts[static_cast<std::size_t>(jy) * W + x] = static_cast<int>(out.size() - begin);
+    }
+  });
+
+  SparseRows A;
+  A.rows = A.cols = W * H;
+  A.start.assign(static_cast<std::size_t>(W) * H + 1, 0);
+  for (std::size_t i = 0; i < row_counts.size(); ++i) A.start[i + 1] = A.start[i] + row_counts[i];
+  A.col.resize(A.start.back());
+  A.weight.resize(A.start.back());
+  tbb::parallel_for(0, H, [&](int jy) {
+    std::int64_t k = A.start[static_cast<std::size_t>(jy) * W];
+    for (const Entry& e : row_entries[jy]) {
+      A.col[k] = e.col;
+      A.weight[k++] = static_cast<float>(e.weight);
+    }
+  });
+  return A;
+}
+
+}  // namespace ddt
