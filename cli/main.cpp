@@ -248,7 +248,11 @@ int run_upscale(int argc, char** argv) {
     if (args.verbose) options.log = log;
     options.progress = &progress;
     options.tile_rows = args.tile_rows;
-    ddt::Image out = ddt::upscale(file.image, out_w, out_h, options);
+    ddt::UpscaleStats stats;
+    ddt::Image out = ddt::upscale(file.image, out_w, out_h, options, &stats);
+    if (stats.consistency_skipped && !args.quiet)
+      std::cerr << "ddtscale: warning: the image was processed in " << stats.tiles
+                << " tiles, where --model " << args.model << " is not applied (plain interpolation, --model point)\n";
     if (!args.compare.empty()) {
       t0 = std::chrono::steady_clock::now();
       const ddt::Image classic = ddt::classic_resize(file.image, out_w, out_h, args.compare);

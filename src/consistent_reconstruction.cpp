@@ -151,10 +151,12 @@ void make_consistent(Image& out, const Mesh2& mesh, const Mesh2& grid_mesh, cons
   grid.height = out.height;
   grid.scale_x = static_cast<double>(out.width) / W;
   grid.scale_y = static_cast<double>(out.height) / H;
-  const Image c1 = render_mesh(mesh, std::vector<float>(delta_mesh.begin(), delta_mesh.end()), C, grid);
-  const Image c2 = render_mesh(grid_mesh, std::vector<float>(delta_grid.begin(), delta_grid.end()), C, grid);
-  tbb::parallel_for(std::size_t(0), out.pixels.size(),
-                    [&](std::size_t i) { out.pixels[i] += c1.pixels[i] + c2.pixels[i]; });
+  // One correction image at a time (each is as large as the output).
+  for (int part = 0; part < 2; ++part) {
+    const std::vector<double>& delta = part == 0 ? delta_mesh : delta_grid;
+    const Image c = render_mesh(part == 0 ? mesh : grid_mesh, std::vector<float>(delta.begin(), delta.end()), C, grid);
+    tbb::parallel_for(std::size_t(0), out.pixels.size(), [&](std::size_t i) { out.pixels[i] += c.pixels[i]; });
+  }
   local.seconds_render = seconds_since(t0);
   if (stats) *stats = local;
 }

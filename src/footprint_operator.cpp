@@ -14,10 +14,21 @@ namespace {
 
 // Side of p relative to u->v, exact, the (eps, eps^2) perturbation of p
 // deciding ties: +1 left, -1 right, never 0 (as the rasterizer's).
+// On a lattice of 2^-10 below 2^15 (pixel centres at integer and dyadic
+// scales) the determinant in double is exact: differences below 2^16 on
+// that lattice have 26 bits, products 52, their difference fits 53.
+bool on_exact_lattice(double c) {
+  const double scaled = c * 1024;
+  return scaled == std::floor(scaled) && std::abs(c) < 32768;
+}
+
 int perturbed_side(const Point2& u, const Point2& v, const Point2& p) {
   const double det = signed_area2(u, v, p);
   const double bound = 1e-14 * (std::abs((v.x - u.x) * (p.y - u.y)) + std::abs((v.y - u.y) * (p.x - u.x)));
-  int s = det > bound ? 1 : det < -bound ? -1 : orientation(u, v, p);
+  int s = det > bound ? 1 : det < -bound ? -1 : 0;
+  if (s == 0 && !(det == 0 && on_exact_lattice(p.x) && on_exact_lattice(p.y) && on_exact_lattice(u.x) &&
+                  on_exact_lattice(u.y) && on_exact_lattice(v.x) && on_exact_lattice(v.y)))
+    s = orientation(u, v, p);
   if (s != 0) return s;
   if (u.y != v.y) return u.y > v.y ? 1 : -1;
   return v.x > u.x ? 1 : -1;

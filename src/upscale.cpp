@@ -220,8 +220,7 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
   // only with Lawson (annealing's random moves span the image; the
   // look-ahead's sweeps have no region schedule).
   int tile_rows = 0;
-  const bool can_tile = W >= 2 && H >= 2 && options.optimizer == "lawson" &&
-                        options.model.kind == AcquisitionModel::Kind::point;
+  const bool can_tile = W >= 2 && H >= 2 && options.optimizer == "lawson";
   if (can_tile && options.tile_rows > 0) {
     tile_rows = options.tile_rows;
   } else if (can_tile && options.tile_rows == 0) {
@@ -241,11 +240,19 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
   // Bands reproduce the whole image's result only under the region
   // schedule; an image small enough for one region never needs them.
   if (tile_rows >= H || region_rows <= 0) tile_rows = 0;
+  // The consistent reconstruction solves over the whole image; in tiles the
+  // image gets the point model's interpolation, and the caller is told.
+  UpscaleOptions band_options = options;
+  if (tile_rows > 0 && options.model.kind != AcquisitionModel::Kind::point) {
+    band_options.model.kind = AcquisitionModel::Kind::point;
+    local.consistency_skipped = true;
+    if (options.log) options.log("consistency: skipped, the image is processed in tiles (point model)");
+  }
   const long long region_triangles = region_rows > 0 ? region_rows * cells_row : -1;
 
   Image out(out_width, out_height, C);
   if (tile_rows == 0) {
-    const LawsonStats ls = run_band(src, Band{0, H, 0, out_height}, out_width, out_height, options, cost, drive,
+    const LawsonStats ls = run_band(src, Band{0, H, 0, out_height}, out_width, out_height, band_options, cost, drive,
                                     region_triangles, region_rows, "", out, local);
     local.iterations = ls.iterations;
     local.flips = ls.flips;
@@ -271,7 +278,7 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
                   first_output_row(y1, H, out_height)};
         UpscaleStats part;
         const std::string label = "tile " + std::to_string(i + 1) + "/" + std::to_string(tiles) + " ";
-        const LawsonStats ls = run_band(src, band, out_width, out_height, options, cost, drive, region_triangles,
+        const LawsonStats ls = run_band(src, band, out_width, out_height, band_options, cost, drive, region_triangles,
                                         region_rows, label, out, part);
         const int needed = (ls.iterations + 1) * ((region_rows + 1) / 2) + 8;
         if (options.optimize && needed > margin) {

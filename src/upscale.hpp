@@ -55,7 +55,9 @@ struct UpscaleOptions {
   // output is the untiled one, bit for bit. 0: automatic (tiles only when
   // the whole image would need more than max_memory bytes), < 0: never.
   // Only under the region schedule (region_rows > 0, or automatic on
-  // images of more than 2 * default_region_triangles triangles).
+  // images of more than 2 * default_region_triangles triangles). Tiles
+  // use the point model (the consistent reconstruction solves over the
+  // whole image): UpscaleStats::consistency_skipped says so.
   int tile_rows = 0;
   long long max_memory = 0;         // 0: half the physical memory
   Progress* progress = nullptr;     // stages and work done, for a progress bar; may be null
@@ -79,6 +81,7 @@ struct UpscaleStats {
   int consistency_iterations = 0;
   double consistency_residual = 0;  // max |input - acquire(output)| at input resolution, before rounding
   double seconds_consistency = 0;
+  bool consistency_skipped = false;  // tiled: the point model was used instead
 };
 
 // Enlarges `src` to out_width x out_height (each >= 1).
