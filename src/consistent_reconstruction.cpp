@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 
@@ -117,6 +118,82 @@ int bicgstab(const SparseRows& A, const std::vector<double>& b, std::vector<doub
   return it;
 }
 
+// The range an output pixel may take in footprint (x, y) of channel c: that
+// of the 3x3 input pixels around it, open below where the pixel is the
+// strict minimum of them (a dark feature thinner than a pixel: the truth
+// inside it is darker than any input pixel) and above where it is the
+// strict maximum. A bright rim beside a dark line, or a dark one beside a
+// bright line, lies outside it: that is the halo.
+std::pair<float, float> halo_bounds(const Image& src, int x, int y, int c) {
+  const float centre = src.at(x, y, c);
+  float lo = centre, hi = centre;
+  bool strict_min = true, strict_max = true;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      if (dx == 0 && dy == 0) continue;
+      const int nx = std::clamp(x + dx, 0, src.width - 1), ny = std::clamp(y + dy, 0, src.height - 1);
+      if (nx == x && ny == y) continue;
+      const float v = src.at(nx, ny, c);
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+      strict_min = strict_min && v > centre;
+      strict_max = strict_max && v < centre;
+    }
+  return {strict_min ? -INFINITY : lo, strict_max ? INFINITY : hi};
+}
+
+// Removes halos without losing consistency: in each footprint (the output
+// pixels whose centres lie in input pixel (x, y)), values are clamped to
+// halo_bounds after a common shift t, the one that keeps the footprint's
+// mean (found by bisection: the mean of clamp(o + t) grows with t). At
+// integer scales a footprint's mean is exactly what the box model
+// acquires, so consistency is kept exactly; elsewhere nearly.
+long long limit_halos(Image& out, const Image& src) {
+  const double sx = static_cast<double>(out.width) / src.width, sy = static_cast<double>(out.height) / src.height;
+  std::vector<int> first_x(src.width + 1), first_y(src.height + 1);
+  for (int x = 0; x <= src.width; ++x) first_x[x] = std::min(out.width, static_cast<int>(std::ceil(x * sx - 0.5)));
+  for (int y = 0; y <= src.height; ++y) first_y[y] = std::min(out.height, static_cast<int>(std::ceil(y * sy - 0.5)));
+  std::atomic<long long> limited{0};
+  tbb::parallel_for(0, src.height, [&](int y) {
+    std::vector<float> o;
+    for (int x = 0; x < src.width; ++x)
+      for (int c = 0; c < src.channels; ++c) {
+        const auto [lo, hi] = halo_bounds(src, x, y, c);
+        o.clear();
+        float omin = INFINITY, omax = -INFINITY;
+        for (int Y = first_y[y]; Y < first_y[y + 1]; ++Y)
+          for (int X = first_x[x]; X < first_x[x + 1]; ++X) {
+            o.push_back(out.at(X, Y, c));
+            omin = std::min(omin, o.back());
+            omax = std::max(omax, o.back());
+          }
+        if (o.empty() || (omin >= lo && omax <= hi)) continue;
+        double mean = 0;
+        for (float v : o) mean += v;
+        mean /= o.size();
+        if (!(mean >= lo && mean <= hi)) continue;  // cannot hold: keep the consistent values
+        auto mean_at = [&](double t) {
+          double m = 0;
+          for (float v : o) m += std::clamp(v + t, double(lo), double(hi));
+          return m / o.size();
+        };
+        double a = std::isfinite(lo) ? lo - omax : -(omax - omin) - 1, b = std::isfinite(hi) ? hi - omin : (omax - omin) + 1;
+        for (int it = 0; it < 40; ++it) {
+          const double t = 0.5 * (a + b);
+          (mean_at(t) < mean ? a : b) = t;
+        }
+        const double t = 0.5 * (a + b);
+        for (int Y = first_y[y]; Y < first_y[y + 1]; ++Y)
+          for (int X = first_x[x]; X < first_x[x + 1]; ++X) {
+            float& v = out.at(X, Y, c);
+            v = static_cast<float>(std::clamp(v + t, double(lo), double(hi)));
+          }
+        ++limited;
+      }
+  });
+  return limited;
+}
+
 }  // namespace
 
 void make_consistent(Image& out, const Mesh2& mesh, const Mesh2& grid_mesh, const Image& src,
@@ -156,6 +233,22 @@ void make_consistent(Image& out, const Mesh2& mesh, const Mesh2& grid_mesh, cons
     const std::vector<double>& delta = part == 0 ? delta_mesh : delta_grid;
     const Image c = render_mesh(part == 0 ? mesh : grid_mesh, std::vector<float>(delta.begin(), delta.end()), C, grid);
     tbb::parallel_for(std::size_t(0), out.pixels.size(), [&](std::size_t i) { out.pixels[i] += c.pixels[i]; });
+  }
+  if (options.limit_halos) {
+    local.halo_footprints = limit_halos(out, src);
+    // Where limiting moved a footprint's acquisition (models other than
+    // box, non-integer scales), one more exact correction on the grid.
+    const Image again = apply_acquisition(options.model, out, W, H);
+    std::vector<double> rest_after(src.pixels.size());
+    for (std::size_t i = 0; i < rest_after.size(); ++i) rest_after[i] = double(src.pixels[i]) - again.pixels[i];
+    if (max_abs(rest_after) > 10 * options.tolerance) {
+      std::vector<double> delta;
+      double residual = 0;
+      local.iterations += bicgstab(G, rest_after, delta, C, options.max_iterations, options.tolerance, &residual);
+      const Image c = render_mesh(grid_mesh, std::vector<float>(delta.begin(), delta.end()), C, grid);
+      tbb::parallel_for(std::size_t(0), out.pixels.size(), [&](std::size_t i) { out.pixels[i] += c.pixels[i]; });
+      ++local.halo_passes;
+    }
   }
   local.seconds_render = seconds_since(t0);
   if (stats) *stats = local;

@@ -16,6 +16,12 @@
 //      (Jacobi-preconditioned BiCGSTAB, a handful of iterations).
 //   O = O0 + render_linear(mesh, delta1) + render_linear(grid_mesh, delta2),
 // so that acquire(O) = src within the tolerance, whatever the scale.
+//   3. halos: each footprint's values are clamped to the range of the 3x3
+//      input pixels around it (open below at a strict local minimum, above
+//      at a strict maximum: a thin dark line may go darker than any input
+//      pixel) after a common shift that keeps the footprint's mean; where
+//      that moves the acquisition (other models, non-integer scales), one
+//      more exact grid correction.
 // docs/consistency.md has the measurements behind these choices.
 //
 // Inputs:
@@ -36,7 +42,8 @@ struct ConsistencyOptions {
   AcquisitionModel model;       // not point
   int mesh_steps = 2;           // back-projection steps on the data-dependent mesh (at most)
   int max_iterations = 200;     // BiCGSTAB iterations on the grid, each two products with G
-  double tolerance = 1e-6;      // stop when every input pixel is reproduced within this
+  double tolerance = 1e-6;
+  bool limit_halos = true;      // clamp overshoots beside edges, keeping each footprint's mean      // stop when every input pixel is reproduced within this
 };
 
 struct ConsistencyStats {
@@ -46,6 +53,8 @@ struct ConsistencyStats {
   double residual_before = 0;   // max |src - acquire(O0)| over pixels and channels
   double residual_after = 0;    // the same for the solved delta, at input resolution
   long long nonzeros = 0;       // of A
+  long long halo_footprints = 0;  // footprints and channels whose overshoot was limited
+  int halo_passes = 0;            // 1 when limiting needed a final grid correction
   double seconds_operator = 0, seconds_solve = 0, seconds_render = 0;
 };
 
