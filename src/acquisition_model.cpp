@@ -138,28 +138,25 @@ Image apply_acquisition(const AcquisitionModel& model, const Image& out, int in_
   const AxisWeights wx = axis_weights(model, in_width, out.width);
   const AxisWeights wy = axis_weights(model, in_height, out.height);
   const int C = out.channels;
-  // Rows first, in parallel over output rows, then columns over input rows.
-  std::vector<double> rows(static_cast<std::size_t>(out.height) * in_width * C, 0.0);
-  tbb::parallel_for(0, out.height, [&](int Y) {
-    double* row = &rows[static_cast<std::size_t>(Y) * in_width * C];
-    for (int X = 0; X < out.width; ++X) {
-      const float* p = &out.pixels[out.index(X, Y)];
-      for (int k = wx.first[X]; k < wx.first[X + 1]; ++k) {
-        double* q = row + static_cast<std::size_t>(wx.pixel[k]) * C;
-        for (int c = 0; c < C; ++c) q[c] += wx.weight[k] * p[c];
-      }
-    }
-  });
   // Transposed column weights: for each input row jy, its output rows.
   std::vector<std::vector<std::pair<int, double>>> by_row(in_height);
   for (int Y = 0; Y < out.height; ++Y)
     for (int k = wy.first[Y]; k < wy.first[Y + 1]; ++k) by_row[wy.pixel[k]].push_back({Y, wy.weight[k]});
+  // Each input row from its output rows, one row of sums at a time (memory
+  // of one input row per thread, not of an intermediate image).
   Image in(in_width, in_height, C);
   tbb::parallel_for(0, in_height, [&](int jy) {
-    std::vector<double> acc(static_cast<std::size_t>(in_width) * C, 0.0);
-    for (const auto& [Y, w] : by_row[jy]) {
-      const double* row = &rows[static_cast<std::size_t>(Y) * in_width * C];
-      for (std::size_t i = 0; i < acc.size(); ++i) acc[i] += w * row[i];
+    std::vector<double> acc(static_cast<std::size_t>(in_width) * C, 0.0), row(acc.size());
+    for (const auto& [Y, wrow] : by_row[jy]) {
+      std::fill(row.begin(), row.end(), 0.0);
+      for (int X = 0; X < out.width; ++X) {
+        const float* p = &out.pixels[out.index(X, Y)];
+        for (int k = wx.first[X]; k < wx.first[X + 1]; ++k) {
+          double* q = &row[static_cast<std::size_t>(wx.pixel[k]) * C];
+          for (int c = 0; c < C; ++c) q[c] += wx.weight[k] * p[c];
+        }
+      }
+      for (std::size_t i = 0; i < acc.size(); ++i) acc[i] += wrow * row[i];
     }
     std::transform(acc.begin(), acc.end(), in.pixels.begin() + static_cast<std::ptrdiff_t>(in.index(0, jy)),
                    [](double v) { return static_cast<float>(v); });

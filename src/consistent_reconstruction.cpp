@@ -145,7 +145,7 @@ std::pair<float, float> halo_bounds(const Image& src, int x, int y, int c) {
 // Removes halos without losing consistency: in each footprint (the output
 // pixels whose centres lie in input pixel (x, y)), values are clamped to
 // halo_bounds after a common shift t, the one that keeps the footprint's
-// mean (found by bisection: the mean of clamp(o + t) grows with t). At
+// mean (the mean of clamp(o + t) grows with t). At
 // integer scales a footprint's mean is exactly what the box model
 // acquires, so consistency is kept exactly; elsewhere nearly.
 long long limit_halos(Image& out, const Image& src) {
@@ -171,18 +171,30 @@ long long limit_halos(Image& out, const Image& src) {
         double mean = 0;
         for (float v : o) mean += v;
         mean /= o.size();
-        if (!(mean >= lo && mean <= hi)) continue;  // cannot hold: keep the consistent values
-        auto mean_at = [&](double t) {
-          double m = 0;
-          for (float v : o) m += std::clamp(v + t, double(lo), double(hi));
-          return m / o.size();
-        };
+        // The mean is the input pixel, inside [lo, hi] up to the solver's
+        // tolerance; a mean on a bound leaves one answer, the flat bound.
+        if (!(mean >= lo - 1e-5 && mean <= hi + 1e-5)) continue;  // cannot hold: keep the consistent values
+        mean = std::clamp(mean, double(lo), double(hi));
+        // mean(clamp(o + t)) is piecewise linear and increasing in t:
+        // Newton steps on its slope (the share of unclamped values),
+        // safeguarded by a bracket.
         double a = std::isfinite(lo) ? lo - omax : -(omax - omin) - 1, b = std::isfinite(hi) ? hi - omin : (omax - omin) + 1;
-        for (int it = 0; it < 40; ++it) {
-          const double t = 0.5 * (a + b);
-          (mean_at(t) < mean ? a : b) = t;
+        double t = 0;
+        for (int it = 0; it < 60; ++it) {
+          double m = 0;
+          int free = 0;
+          for (float v : o) {
+            const double x = v + t;
+            if (x <= lo) m += lo;
+            else if (x >= hi) m += hi;
+            else m += x, ++free;
+          }
+          const double gap = mean - m / o.size();
+          if (std::abs(gap) < 1e-9) break;
+          (gap > 0 ? a : b) = t;
+          const double next = free > 0 ? t + gap * o.size() / free : 0.5 * (a + b);
+          t = next > a && next < b ? next : 0.5 * (a + b);
         }
-        const double t = 0.5 * (a + b);
         for (int Y = first_y[y]; Y < first_y[y + 1]; ++Y)
           for (int X = first_x[x]; X < first_x[x + 1]; ++X) {
             float& v = out.at(X, Y, c);
@@ -204,8 +216,10 @@ void make_consistent(Image& out, const Mesh2& mesh, const Mesh2& grid_mesh, cons
   ConsistencyStats local;
 
   auto t0 = std::chrono::steady_clock::now();
-  const SparseRows A = footprint_operator(mesh, W, H, out.width, out.height, options.model);
-  const SparseRows G = footprint_operator(grid_mesh, W, H, out.width, out.height, options.model);
+  const std::vector<index_t> owners = pixel_owners(mesh, W, H, out.width, out.height);
+  const std::vector<index_t> grid_owners = pixel_owners(grid_mesh, W, H, out.width, out.height);
+  const SparseRows A = footprint_operator(mesh, owners, W, H, out.width, out.height, options.model);
+  const SparseRows G = footprint_operator(grid_mesh, grid_owners, W, H, out.width, out.height, options.model);
   local.nonzeros = static_cast<long long>(A.col.size());
   local.seconds_operator = seconds_since(t0);
 
@@ -223,17 +237,8 @@ void make_consistent(Image& out, const Mesh2& mesh, const Mesh2& grid_mesh, cons
   local.seconds_solve = seconds_since(t0);
 
   t0 = std::chrono::steady_clock::now();
-  RenderGrid grid;
-  grid.width = out.width;
-  grid.height = out.height;
-  grid.scale_x = static_cast<double>(out.width) / W;
-  grid.scale_y = static_cast<double>(out.height) / H;
-  // One correction image at a time (each is as large as the output).
-  for (int part = 0; part < 2; ++part) {
-    const std::vector<double>& delta = part == 0 ? delta_mesh : delta_grid;
-    const Image c = render_mesh(part == 0 ? mesh : grid_mesh, std::vector<float>(delta.begin(), delta.end()), C, grid);
-    tbb::parallel_for(std::size_t(0), out.pixels.size(), [&](std::size_t i) { out.pixels[i] += c.pixels[i]; });
-  }
+  add_linear_surface(out, mesh, owners, W, H, delta_mesh);
+  add_linear_surface(out, grid_mesh, grid_owners, W, H, delta_grid);
   if (options.limit_halos) {
     local.halo_footprints = limit_halos(out, src);
     // Where limiting moved a footprint's acquisition (models other than
@@ -245,8 +250,7 @@ void make_consistent(Image& out, const Mesh2& mesh, const Mesh2& grid_mesh, cons
       std::vector<double> delta;
       double residual = 0;
       local.iterations += bicgstab(G, rest_after, delta, C, options.max_iterations, options.tolerance, &residual);
-      const Image c = render_mesh(grid_mesh, std::vector<float>(delta.begin(), delta.end()), C, grid);
-      tbb::parallel_for(std::size_t(0), out.pixels.size(), [&](std::size_t i) { out.pixels[i] += c.pixels[i]; });
+      add_linear_surface(out, grid_mesh, grid_owners, W, H, delta);
       ++local.halo_passes;
     }
   }

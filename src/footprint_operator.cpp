@@ -38,8 +38,8 @@ bool owns(const Point2& a, const Point2& b, const Point2& c, const Point2& p) {
   return perturbed_side(a, b, p) > 0 && perturbed_side(b, c, p) > 0 && perturbed_side(c, a, p) > 0;
 }
 
-// Every output pixel whose centre lies strictly inside the hull box, its
-// owning triangle; -1 for the others (the rim).
+}  // namespace
+
 std::vector<index_t> pixel_owners(const Mesh2& mesh, int W, int H, int out_w, int out_h) {
   const double sx = static_cast<double>(out_w) / W, sy = static_cast<double>(out_h) / H;
   std::vector<index_t> owner(static_cast<std::size_t>(out_w) * out_h, -1);
@@ -79,6 +79,8 @@ std::vector<index_t> pixel_owners(const Mesh2& mesh, int W, int H, int out_w, in
   return owner;
 }
 
+namespace {
+
 struct Entry {
   index_t col;
   double weight;
@@ -97,7 +99,57 @@ struct Scratch {
   std::vector<int> count;
 };
 
+// The rim: the clamped centre, linear between grid neighbours along the
+// hull's unit edges. Returns the number of entries (1 or 2).
+int rim_weights(int W, int H, double cx, double cy, std::array<Entry, 2>& e) {
+  const double px = std::clamp(cx, 0.5, W - 0.5) - 0.5, py = std::clamp(cy, 0.5, H - 0.5) - 0.5;
+  const int ix = std::min(W - 1, static_cast<int>(px)), iy = std::min(H - 1, static_cast<int>(py));
+  const double fx = px - ix, fy = py - iy;
+  if (fx > 0) {
+    e = {Entry{iy * W + ix, 1 - fx}, Entry{iy * W + ix + 1, fx}};
+    return 2;
+  }
+  if (fy > 0) {
+    e = {Entry{iy * W + ix, 1 - fy}, Entry{(iy + 1) * W + ix, fy}};
+    return 2;
+  }
+  e[0] = {iy * W + ix, 1};
+  return 1;
+}
+
 }  // namespace
+
+void add_linear_surface(Image& out, const Mesh2& mesh, const std::vector<index_t>& owners, int W, int H,
+                        const std::vector<double>& values) {
+  const int C = out.channels;
+  const double sx = static_cast<double>(out.width) / W, sy = static_cast<double>(out.height) / H;
+  tbb::parallel_for(0, out.height, [&](int Y) {
+    const double cy = (Y + 0.5) / sy;
+    for (int X = 0; X < out.width; ++X) {
+      const double cx = (X + 0.5) / sx;
+      float* o = &out.pixels[out.index(X, Y)];
+      const index_t t = owners[static_cast<std::size_t>(Y) * out.width + X];
+      if (t >= 0) {
+        const index_t* v = &mesh.tri[3 * t];
+        const Point2 &a = mesh.points[v[0]], &b = mesh.points[v[1]], &c = mesh.points[v[2]];
+        const double area = signed_area2(a, b, c);
+        const Point2 p{cx, cy};
+        const double l0 = signed_area2(p, b, c) / area, l1 = signed_area2(a, p, c) / area, l2 = 1 - l0 - l1;
+        const double *z0 = &values[std::size_t(v[0]) * C], *z1 = &values[std::size_t(v[1]) * C],
+                     *z2 = &values[std::size_t(v[2]) * C];
+        for (int ch = 0; ch < C; ++ch) o[ch] += static_cast<float>(l0 * z0[ch] + l1 * z1[ch] + l2 * z2[ch]);
+      } else {
+        std::array<Entry, 2> e{};
+        const int ne = rim_weights(W, H, cx, cy, e);
+        for (int ch = 0; ch < C; ++ch) {
+          double z = 0;
+          for (int i = 0; i < ne; ++i) z += e[i].weight * values[std::size_t(e[i].col) * C + ch];
+          o[ch] += static_cast<float>(z);
+        }
+      }
+    }
+  });
+}
 
 void SparseRows::multiply(const std::vector<double>& x, std::vector<double>& y, int channels) const {
   y.assign(static_cast<std::size_t>(rows) * channels, 0.0);
@@ -113,10 +165,15 @@ void SparseRows::multiply(const std::vector<double>& x, std::vector<double>& y, 
 }
 
 SparseRows footprint_operator(const Mesh2& mesh, int W, int H, int out_w, int out_h, const AcquisitionModel& model) {
+  return footprint_operator(mesh, pixel_owners(mesh, W, H, out_w, out_h), W, H, out_w, out_h, model);
+}
+
+SparseRows footprint_operator(const Mesh2& mesh, const std::vector<index_t>& owner, int W, int H, int out_w, int out_h,
+                              const AcquisitionModel& model) {
   if (mesh.points.size() != static_cast<std::size_t>(W) * H)
     throw Error("footprint_operator: the mesh is not the pixel grid");
+  if (owner.size() != static_cast<std::size_t>(out_w) * out_h) throw Error("footprint_operator: owners of another grid");
   const AxisWeights wx = axis_weights(model, W, out_w), wy = axis_weights(model, H, out_h);
-  const std::vector<index_t> owner = pixel_owners(mesh, W, H, out_w, out_h);
   const double sx = static_cast<double>(out_w) / W, sy = static_cast<double>(out_h) / H;
 
   std::vector<std::vector<std::pair<int, double>>> by_row(H);  // input row -> (output row, weight)
@@ -181,21 +238,8 @@ SparseRows footprint_operator(const Mesh2& mesh, int W, int H, int out_w, int ou
           }
           continue;
         }
-        // The rim: the clamped centre, linear between grid neighbours.
         std::array<Entry, 2> e{};
-        int ne = 0;
-        const double px = std::clamp(cx, 0.5, W - 0.5) - 0.5, py = std::clamp(cy, 0.5, H - 0.5) - 0.5;
-        const int ix = std::min(W - 1, static_cast<int>(px)), iy = std::min(H - 1, static_cast<int>(py));
-        const double fx = px - ix, fy = py - iy;
-        if (fx > 0) {
-          e[ne++] = {iy * W + ix, 1 - fx};
-          e[ne++] = {iy * W + ix + 1, fx};
-        } else if (fy > 0) {
-          e[ne++] = {iy * W + ix, 1 - fy};
-          e[ne++] = {(iy + 1) * W + ix, fy};
-        } else {
-          e[ne++] = {iy * W + ix, 1};
-        }
+        const int ne = rim_weights(W, H, cx, cy, e);
         for (int k = wx.first[X]; k < wx.first[X + 1]; ++k) {
           const double w = wrow * wx.weight[k];
           for (int i = 0; i < ne; ++i) trip.push_back({wx.pixel[k], e[i].col, w * e[i].weight});

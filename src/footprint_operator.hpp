@@ -28,6 +28,7 @@
 //   output pixel.
 
 #include "acquisition_model.hpp"
+#include "image.hpp"
 #include "mesh.hpp"
 
 #include <cstdint>
@@ -47,5 +48,22 @@ struct SparseRows {
 
 SparseRows footprint_operator(const Mesh2& mesh, int width, int height, int out_width, int out_height,
                               const AcquisitionModel& model);
+
+// The owning triangle of every output pixel whose centre lies strictly
+// inside the hull box (the rasterizer's exact tie rule), -1 for the rim:
+// out_width * out_height ids, row-major. Same preconditions as above.
+std::vector<index_t> pixel_owners(const Mesh2& mesh, int width, int height, int out_width, int out_height);
+
+// footprint_operator from owners computed once (they also serve
+// add_linear_surface).
+SparseRows footprint_operator(const Mesh2& mesh, const std::vector<index_t>& owners, int width, int height,
+                              int out_width, int out_height, const AcquisitionModel& model);
+
+// Adds the piecewise-linear surface with vertex values `values` (#V by
+// out.channels, interleaved) to `out` in place, as render_mesh's linear
+// render draws it (up to rounding: the interpolant is continuous, so a
+// centre on an edge has one value whichever triangle owns it).
+void add_linear_surface(Image& out, const Mesh2& mesh, const std::vector<index_t>& owners, int width, int height,
+                        const std::vector<double>& values);
 
 }  // namespace ddt

@@ -185,3 +185,22 @@ TEST_CASE("upscale: --model point is the plain interpolation, box differs from i
   CHECK(max_difference(plain, consistent) > 1e-3);
   CHECK(max_difference(plain, consistent) < 0.35);  // the image's one edge is a step of 0.35
 }
+
+TEST_CASE("add_linear_surface: adds what render_mesh's linear render draws") {
+  const Image img = noise_image(11, 8, 2, 4);
+  const Mesh2 mesh = optimized_grid_mesh(img);
+  for (auto [ow, oh] : {std::pair{44, 32}, std::pair{29, 21}}) {
+    const std::vector<float> v = test::random_values(img.pixels.size(), 1, 12);
+    RenderGrid grid;
+    grid.width = ow;
+    grid.height = oh;
+    grid.scale_x = double(ow) / img.width;
+    grid.scale_y = double(oh) / img.height;
+    const Image rendered = render_mesh(mesh, v, 2, grid);
+    Image added(ow, oh, 2, 0.25f);
+    add_linear_surface(added, mesh, pixel_owners(mesh, img.width, img.height, ow, oh), img.width, img.height,
+                       std::vector<double>(v.begin(), v.end()));
+    for (float& x : added.pixels) x -= 0.25f;
+    CHECK(max_difference(rendered, added) < 1e-5);
+  }
+}
