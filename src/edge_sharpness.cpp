@@ -192,9 +192,19 @@ double truth_halo(const Image& output, const Image& truth, double scale, const T
   // floor, with a tolerance, so an integer scale given as 3.9999999 still means 4.
   const int radius = static_cast<int>(std::floor(scale + 1e-9));
   const int step_radius = static_cast<int>(std::floor(options.step_reach * scale + 1e-9));
-  const bool local = options.step == 0;
+  const bool local = options.step == 0 && options.local;
   double worst = 0;
   for (int c = 0; c < output.channels; ++c) {
+    double channel_step = options.step;
+    if (channel_step == 0 && !local) {
+      float lowest = truth.pixels[c], highest = truth.pixels[c];
+      for (std::size_t i = c; i < truth.pixels.size(); i += truth.channels) {
+        lowest = std::min(lowest, truth.pixels[i]);
+        highest = std::max(highest, truth.pixels[i]);
+      }
+      channel_step = static_cast<double>(highest) - lowest;
+      if (channel_step < options.min_step) continue;  // a flat channel has no step to ring beside
+    }
     const std::vector<float> hi = window_extreme_plane(truth, c, radius, true);
     const std::vector<float> lo = window_extreme_plane(truth, c, radius, false);
     std::vector<float> step_hi, step_lo;
@@ -205,7 +215,7 @@ double truth_halo(const Image& output, const Image& truth, double scale, const T
     for (int y = shave; y < output.height - shave; ++y)
       for (int x = shave; x < output.width - shave; ++x) {
         const std::size_t i = static_cast<std::size_t>(y) * output.width + x;
-        const double step = local ? static_cast<double>(step_hi[i]) - step_lo[i] : options.step;
+        const double step = local ? static_cast<double>(step_hi[i]) - step_lo[i] : channel_step;
         if (local && step < options.min_step) continue;
         const double value = output.at(x, y, c);
         const double excursion = std::max({value - hi[i], static_cast<double>(lo[i]) - value, 0.0});

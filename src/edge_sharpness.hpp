@@ -70,15 +70,21 @@ EdgeSharpness measure_edge_sharpness(const Image& img, const StepEdge& edge, dou
                                      const EdgeSharpnessOptions& options = {});
 
 struct TruthHaloOptions {
-  // The step the excursion is divided by: > 0 the same for every pixel and
-  // channel (e.g. a scene's known step); 0: local, max - min of the truth
-  // within `step_reach` input pixels of the pixel (square window), per channel.
+  // What the excursion is divided by, per pixel P and channel c:
+  //   step > 0           that number everywhere (e.g. a scene's known step);
+  //   step 0, not local  the truth's range in channel c, max - min over the
+  //                      whole image: the scene's step (the default);
+  //   step 0, local      max - min of the truth within step_reach input
+  //                      pixels of P (square window). Beware: where that
+  //                      window barely reaches a step, the divisor is a
+  //                      sliver of it and faint ringing scores high.
+  // A divisor below min_step (flat truth: nothing to ring against) skips
+  // the pixel (local) or the channel.
   double step = 0;
+  bool local = false;
   double step_reach = 3.0;  // input pixels; local mode only
-  // Local mode skips pixels whose local step is below this (flat truth:
-  // nothing to ring against).
   double min_step = 1e-3;
-  int shave = 0;  // output pixels on every border left out
+  int shave = 0;            // output pixels on every border left out
 };
 
 // The truth-based halo: the largest fraction of the step by which the
@@ -87,6 +93,9 @@ struct TruthHaloOptions {
 // pixels, clipped to the image):
 //   max over pixels P and channels c of
 //     max(out(P) - max_W truth, min_W truth - out(P), 0) / step(P, c).
+// It counts overshoot, and also blur that spreads a step over more than one
+// input pixel on either side of the true edge (the output has not reached
+// the level where the truth has been flat for a whole input pixel).
 // A nearest-neighbour enlargement of a box-filtered input scores 0 (each
 // input pixel is an average of the truth over its footprint, which lies in
 // the window of each of its output pixels); bicubic and Lanczos ring beside

@@ -16,8 +16,9 @@
 //   both box-filtered renderings of the same analytic scene, so no
 //   resampler enters the reference — then steps 3 and 5 (no 8-bit rounding),
 //   and the measures of edge_sharpness.hpp on SR (EvalRow): the truth-based
-//   halo against HR (local step, one input pixel shaved like the scores) on
-//   every scene, and the edge sharpness on the straight step edges.
+//   halo against HR (as a fraction of the scene's step, the range of HR per
+//   channel; one input pixel shaved like the scores) on every scene, and the
+//   edge sharpness on the straight step edges.
 //
 // Images are processed one after another: the methods are themselves
 // multithreaded (OIIO, TBB), and running images side by side would make
@@ -47,7 +48,7 @@ struct EvalRow {
   double ssim = 0;
   double seconds = 0;  // wall time of the upscaling call alone
   // Synthetic mode only, NaN otherwise (edge_sharpness.hpp):
-  // truth_halo with the local step, in percent, every scene;
+  // truth_halo (the scene's step), in percent, every scene;
   double halo = std::numeric_limits<double>::quiet_NaN();
   // measure_edge_sharpness on the straight step edges (Scene::step_edge):
   // rise width, wobble and offset of the mid-level contour in input pixels,
@@ -141,7 +142,7 @@ struct EvalEdgeSummary {
   double rise_width = 0, rise_width_max = 0;    // input pixels
   double wobble = 0, wobble_max = 0;            // input pixels
   double overshoot_max = 0;                     // percent of the step
-  double halo_max = 0;                          // percent of the local step, over the same rows
+  double halo_max = 0;                          // percent of the step, over the same rows
 };
 
 // One summary per (method, scale) that has edge rows, in the order of

@@ -204,10 +204,15 @@ TEST_CASE("truth_halo: the window is one input pixel, the excursion a fraction o
   Image bump = truth;
   bump.at(60, 3) = 0.8f + 0.03f;  // 5 % of the step above the bright side
   CHECK(ddt::truth_halo(bump, truth, 4.0, fixed) == doctest::Approx(0.05).epsilon(1e-4));
+  CHECK(ddt::truth_halo(bump, truth, 4.0) == doctest::Approx(0.05).epsilon(1e-4));  // the truth's range: 0.6
   // Local step: 0.6 within 3 input pixels (12 output) of the step, flat (skipped) beyond.
-  CHECK(ddt::truth_halo(bump, truth, 4.0) == 0.0);  // x = 60 is 20 pixels from the step
-  bump.at(50, 3) = 0.8f + 0.03f;                     // 10 pixels: the step is in the wider window
-  CHECK(ddt::truth_halo(bump, truth, 4.0) == doctest::Approx(0.05).epsilon(1e-4));
+  ddt::TruthHaloOptions local;
+  local.local = true;
+  CHECK(ddt::truth_halo(bump, truth, 4.0, local) == 0.0);  // x = 60 is 20 pixels from the step
+  bump.at(50, 3) = 0.8f + 0.03f;                            // 10 pixels: the step is in the wider window
+  CHECK(ddt::truth_halo(bump, truth, 4.0, local) == doctest::Approx(0.05).epsilon(1e-4));
+  // A flat truth has no step: nothing counts.
+  CHECK(ddt::truth_halo(bump, Image(80, 8, 1, 0.5f), 4.0) == 0.0);
   ddt::TruthHaloOptions shaved = fixed;
   shaved.shave = 3;
   bump = truth;
@@ -243,9 +248,14 @@ TEST_CASE("truth_halo: bicubic and Lanczos fail the 1 % bound beside a step edge
     CHECK(bicubic > 0.01);
     CHECK(lanczos > 0.01);
     CHECK(lanczos4 > 0.01);
-    // The same verdicts against the scene's known step.
-    options.step = 0.6;
-    CHECK(ddt::truth_halo(ddt::classic_resize(lr, size * s, size * s, "nearest"), truth, s, options) < 1e-4);
-    CHECK(ddt::truth_halo(ddt::matlab_imresize_bicubic(lr, size * s, size * s), truth, s, options) > 0.01);
+    // The same verdicts against the scene's known step and the local step.
+    for (const bool local : {false, true}) {
+      CAPTURE(local);
+      ddt::TruthHaloOptions other = options;
+      other.step = local ? 0.0 : 0.6;
+      other.local = local;
+      CHECK(ddt::truth_halo(ddt::classic_resize(lr, size * s, size * s, "nearest"), truth, s, other) < 1e-4);
+      CHECK(ddt::truth_halo(ddt::matlab_imresize_bicubic(lr, size * s, size * s), truth, s, other) > 0.01);
+    }
   }
 }
