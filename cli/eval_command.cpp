@@ -89,7 +89,7 @@ int run_eval_command(int argc, char** argv) {
       "the scale, LR = MATLAB bicubic downscale rounded to 8 bits, SR = method(LR) rounded to 8 bits,\n"
       "PSNR and SSIM on BT.601 luma with the scale shaved from each border. --synthetic scores against\n"
       "analytic scenes rendered at both resolutions instead, and adds the truth-based halo (halo%: how far\n"
-      "the output leaves the true scene's range within one input pixel, % of the local step) and, on the\n"
+      "the output leaves the true scene's range within one input pixel, % of the scene's step) and, on the\n"
       "straight step edges, the 10-90 % rise width, the RMS wobble and mean offset of the 50 % contour\n"
       "from the true line (input pixels) and the overshoot (over%, % of the step)."};
   app.name("ddtscale eval");

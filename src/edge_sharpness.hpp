@@ -33,6 +33,10 @@ struct EdgeSharpnessOptions {
 struct EdgeSharpness {
   // Mean over profiles of the distance between the 10 % and 90 % crossings
   // (levels low + 0.1 (high - low), low + 0.9 (high - low)), input pixels.
+  // The image's own grid bounds it from below: an ideal box-filtered edge,
+  // sampled at the pixel centres and interpolated between them, measures
+  // 0.8 to 1.6 of the measured image's pixels (1.58 at 0 degrees with the
+  // edge 0.4 into a pixel), i.e. 0.08-0.16 input pixels at scale 10.
   double rise_width = 0;
   // RMS distance of the 50 % crossing from the true line (the bias
   // included), input pixels: 0 for a straight edge in the right place.
