@@ -9,6 +9,7 @@ packages=(
   libeigen3-dev doctest-dev libtbb-dev libcli11-dev
   libteem-dev
   libcsv-dev
+  libopencv-dev libvips-dev
 )
 missing=()
 for p in "${packages[@]}"; do

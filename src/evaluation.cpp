@@ -2,10 +2,12 @@
 
 #include "classic_resize.hpp"
 #include "costs.hpp"
+#include "edge_sharpness.hpp"
 #include "error.hpp"
 #include "image_io.hpp"
 #include "matlab_resize.hpp"
 #include "metrics.hpp"
+#include "peer_resize.hpp"
 #include "synthetic_scenes.hpp"
 
 #include <algorithm>
@@ -32,6 +34,11 @@ std::string join(const std::vector<std::string>& items) {
 EvalMethod ddt_method(const std::string& name, const UpscaleOptions& options) {
   find_cost(options.cost);  // throws, naming the valid costs, before any work
   return {name, [options](const Image& lr, int w, int h) { return upscale(lr, w, h, options); }};
+}
+
+bool is_peer(const std::string& name) {
+  const std::vector<std::string> peers = peer_methods();
+  return std::find(peers.begin(), peers.end(), name) != peers.end();
 }
 
 EvalMethod classic_method(const std::string& name, const std::string& classic) {
@@ -72,14 +79,18 @@ Image run_timed(const EvalMethod& method, const Image& lr, int w, int h, double&
   return sr;
 }
 
+// Measures taken on SR beside the scores (synthetic mode).
+using Measure = std::function<void(const Image& sr, EvalRow& row)>;
+
 EvalRow score(const std::string& image, int s, const EvalMethod& method, const Image& lr, const Image& hr,
-              bool quantize) {
+              bool quantize, const Measure& measure = {}) {
   EvalRow row{image, s, method.name};
   try {
     Image sr = run_timed(method, lr, hr.width, hr.height, row.seconds);
     if (quantize) sr = round_to_8bit(sr);
     row.psnr = psnr_y(sr, hr, s);
     row.ssim = ssim_y(sr, hr, s);
+    if (measure) measure(sr, row);
   } catch (const std::exception& e) {
     throw Error(method.name + " on " + image + " x" + std::to_string(s) + ": " + e.what());
   }
@@ -103,7 +114,31 @@ std::string csv_field(const std::string& s) {
   return q + "\"";
 }
 
+// The known edge of a step-edge scene in the pixel coordinates of a
+// width x height rendering (the normal rescaled, then renormalized, so
+// unequal sides keep it perpendicular).
+StepEdge step_edge_in_pixels(const SceneStepEdge& e, int width, int height) {
+  const double nx = e.nx / width, ny = e.ny / height, norm = std::hypot(nx, ny);
+  return {e.x * width, e.y * height, nx / norm, ny / norm, e.low, e.high};
+}
+
+// The synthetic measures of one scene at scale s against its HR rendering.
+Measure synthetic_measures(const Scene& scene, const Image& hr, int s) {
+  return [&scene, &hr, s](const Image& sr, EvalRow& row) {
+    TruthHaloOptions halo;
+    halo.shave = s;  // the border the scores shave too
+    row.halo = 100.0 * truth_halo(sr, hr, s, halo);
+    if (!scene.step_edge) return;
+    const EdgeSharpness e = measure_edge_sharpness(sr, step_edge_in_pixels(*scene.step_edge, sr.width, sr.height), s);
+    row.rise_width = e.rise_width;
+    row.wobble = e.wobble;
+    row.edge_offset = e.offset;
+    row.overshoot = e.overshoot;
+  };
+}
+
 std::string number(double v) {
+  if (std::isnan(v)) return "";
   if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.6f", v);
@@ -114,7 +149,8 @@ std::string number(double v) {
 
 std::vector<std::string> eval_method_names() {
   return {"ddt", "ddt-<cost>", "ddt-linear", "ddt-linear-<cost>", "delaunay", "delaunay-cubic",
-          "bicubic", "bicubic-oiio", "lanczos", "bilinear", "nearest"};
+          "bicubic", "bicubic-oiio", "lanczos", "bilinear", "nearest", "opencv-lanczos4", "opencv-cubic",
+          "vips-nohalo"};
 }
 
 std::vector<EvalMethod> make_eval_methods(const std::vector<std::string>& names,
@@ -163,6 +199,8 @@ std::vector<EvalMethod> make_eval_methods(const std::vector<std::string>& names,
       add(classic_method(name, "bicubic"));
     } else if (name == "lanczos" || name == "bilinear" || name == "nearest") {
       add(classic_method(name, name));
+    } else if (is_peer(name)) {
+      add({name, [name](const Image& lr, int w, int h) { return peer_resize(lr, w, h, name); }});
     } else {
       throw Error("unknown method '" + name + "' (valid: " + join(eval_method_names()) + ")");
     }
@@ -257,8 +295,9 @@ std::vector<EvalRow> evaluate_synthetic(const EvalOptions& options) {
     for (int s : options.scales) {
       const Image hr = render_scene(scene, w * s, h * s);
       // Both renderings are exact box filters of one scene: nothing to quantize away.
+      const Measure measure = synthetic_measures(scene, hr, s);
       for (const auto& m : options.methods)
-        scene_rows.push_back(score(scene.name, s, m, lr, hr, /*quantize=*/false));
+        scene_rows.push_back(score(scene.name, s, m, lr, hr, /*quantize=*/false, measure));
     }
     if (options.on_image) options.on_image(scene_rows);
     rows.insert(rows.end(), scene_rows.begin(), scene_rows.end());
@@ -297,7 +336,29 @@ std::vector<EvalMean> mean_by_method_and_scale(const std::vector<EvalRow>& rows)
   return means;
 }
 
-void write_eval_csv(const std::string& path, const std::vector<EvalRow>& rows) {
+std::vector<EvalEdgeSummary> edge_summary_by_method_and_scale(const std::vector<EvalRow>& rows) {
+  std::vector<EvalEdgeSummary> summaries;
+  for (const EvalMean& mean : mean_by_method_and_scale(rows)) {
+    EvalEdgeSummary e{mean.method, mean.scale};
+    for (const auto& r : rows) {
+      if (r.scale != e.scale || r.method != e.method || std::isnan(r.rise_width)) continue;
+      ++e.edges;
+      e.rise_width += r.rise_width;
+      e.rise_width_max = std::max(e.rise_width_max, r.rise_width);
+      e.wobble += r.wobble;
+      e.wobble_max = std::max(e.wobble_max, r.wobble);
+      e.overshoot_max = std::max(e.overshoot_max, r.overshoot);
+      if (!std::isnan(r.halo)) e.halo_max = std::max(e.halo_max, r.halo);
+    }
+    if (e.edges == 0) continue;
+    e.rise_width /= e.edges;
+    e.wobble /= e.edges;
+    summaries.push_back(e);
+  }
+  return summaries;
+}
+
+void write_eval_csv(const std::string& path, const std::vector<EvalRow>& rows, bool synthetic_columns) {
   const fs::path target(path);
   if (path.empty()) throw Error("no CSV file given");
   std::error_code ec;
@@ -318,10 +379,17 @@ void write_eval_csv(const std::string& path, const std::vector<EvalRow>& rows) {
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) fail("cannot create a file in '" + dir.string() + "'");
-    out << "image,scale,method,psnr,ssim,seconds\n";
-    for (const auto& r : rows)
+    out << "image,scale,method,psnr,ssim,seconds";
+    if (synthetic_columns) out << ",halo,rise_width,wobble,edge_offset,overshoot";
+    out << '\n';
+    for (const auto& r : rows) {
       out << csv_field(r.image) << ',' << r.scale << ',' << csv_field(r.method) << ',' << number(r.psnr) << ','
-          << number(r.ssim) << ',' << number(r.seconds) << '\n';
+          << number(r.ssim) << ',' << number(r.seconds);
+      if (synthetic_columns)
+        out << ',' << number(r.halo) << ',' << number(r.rise_width) << ',' << number(r.wobble) << ','
+            << number(r.edge_offset) << ',' << number(r.overshoot);
+      out << '\n';
+    }
     out.flush();
     if (!out) fail("write error");
   }

@@ -14,7 +14,11 @@
 // Synthetic protocol (synthetic_scenes.hpp), for every scene and scale s:
 //   HR = render_scene(scene, W s, H s), LR = render_scene(scene, W, H) —
 //   both box-filtered renderings of the same analytic scene, so no
-//   resampler enters the reference — then steps 3 and 5 (no 8-bit rounding).
+//   resampler enters the reference — then steps 3 and 5 (no 8-bit rounding),
+//   and the measures of edge_sharpness.hpp on SR (EvalRow): the truth-based
+//   halo against HR (as a fraction of the scene's step, the range of HR per
+//   channel; one input pixel shaved like the scores) on every scene, and the
+//   edge sharpness on the straight step edges.
 //
 // Images are processed one after another: the methods are themselves
 // multithreaded (OIIO, TBB), and running images side by side would make
@@ -28,12 +32,14 @@
 #include "upscale.hpp"
 
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
 namespace ddt {
 
-// One score: a row of the CSV `image,scale,method,psnr,ssim,seconds`.
+// One score: a row of the CSV `image,scale,method,psnr,ssim,seconds` (in
+// synthetic mode followed by `halo,rise_width,wobble,edge_offset,overshoot`).
 struct EvalRow {
   std::string image;   // file name (set mode) or scene name (synthetic mode)
   int scale = 0;
@@ -41,6 +47,16 @@ struct EvalRow {
   double psnr = 0;     // dB on Y; +infinity for a perfect result
   double ssim = 0;
   double seconds = 0;  // wall time of the upscaling call alone
+  // Synthetic mode only, NaN otherwise (edge_sharpness.hpp):
+  // truth_halo (the scene's step), in percent, every scene;
+  double halo = std::numeric_limits<double>::quiet_NaN();
+  // measure_edge_sharpness on the straight step edges (Scene::step_edge):
+  // rise width, wobble and offset of the mid-level contour in input pixels,
+  // overshoot in percent of the step.
+  double rise_width = std::numeric_limits<double>::quiet_NaN();
+  double wobble = std::numeric_limits<double>::quiet_NaN();
+  double edge_offset = std::numeric_limits<double>::quiet_NaN();
+  double overshoot = std::numeric_limits<double>::quiet_NaN();
 };
 
 // The mean of the rows of one (method, scale).
@@ -65,6 +81,7 @@ struct EvalMethod {
 //   bicubic       the protocol's reference, matlab_imresize_bicubic
 //   bicubic-oiio  classic_resize "bicubic" (Catmull-Rom through OpenImageIO)
 //   lanczos, bilinear, nearest   classic_resize
+//   opencv-lanczos4, opencv-cubic, vips-nohalo   peer_resize (other libraries)
 std::vector<std::string> eval_method_names();
 
 // Builds the methods named in `names`, in that order.
@@ -116,10 +133,28 @@ std::vector<EvalRow> evaluate_synthetic(const EvalOptions& options);
 // appearance in `rows`.
 std::vector<EvalMean> mean_by_method_and_scale(const std::vector<EvalRow>& rows);
 
+// The edge measures of one (method, scale) over the rows that have them
+// (the step-edge scenes): means and worst cases.
+struct EvalEdgeSummary {
+  std::string method;
+  int scale = 0;
+  int edges = 0;                                // rows with a rise width
+  double rise_width = 0, rise_width_max = 0;    // input pixels
+  double wobble = 0, wobble_max = 0;            // input pixels
+  double overshoot_max = 0;                     // percent of the step
+  double halo_max = 0;                          // percent of the step, over the same rows
+};
+
+// One summary per (method, scale) that has edge rows, in the order of
+// mean_by_method_and_scale. Rows whose rise width is NaN are skipped.
+std::vector<EvalEdgeSummary> edge_summary_by_method_and_scale(const std::vector<EvalRow>& rows);
+
 // Writes rows as CSV with exactly the header `image,scale,method,psnr,ssim,seconds`,
-// one row each, in order (PSNR of a perfect result is written "inf"). Written
-// to a temporary file in the target's directory, then renamed over `path`.
+// one row each, in order (PSNR of a perfect result is written "inf"). With
+// synthetic_columns, five more: `halo,rise_width,wobble,edge_offset,overshoot`
+// (EvalRow; a measure not taken, NaN, is an empty field). Written to a
+// temporary file in the target's directory, then renamed over `path`.
 // Errors: throws ddt::Error if the file cannot be written; `path` is then untouched.
-void write_eval_csv(const std::string& path, const std::vector<EvalRow>& rows);
+void write_eval_csv(const std::string& path, const std::vector<EvalRow>& rows, bool synthetic_columns = false);
 
 }  // namespace ddt

@@ -251,12 +251,14 @@ Scene edge_scene(int degrees) {
   const double nx = std::cos(t), ny = std::sin(t);  // towards the bright side
   char name[16];
   std::snprintf(name, sizeof name, "edge_%02d", degrees);
-  return grey_scene(name,
-                    "step edge through (0.52, 0.5) turned " + std::to_string(degrees) +
-                        " degrees clockwise from vertical; 0.2 left, 0.8 right",
-                    kDark,
-                    [nx, ny](double x, double y) { return -(nx * (x - 0.52) + ny * (y - 0.5)); },
-                    kBright);
+  Scene scene = grey_scene(name,
+                           "step edge through (0.52, 0.5) turned " + std::to_string(degrees) +
+                               " degrees clockwise from vertical; 0.2 left, 0.8 right",
+                           kDark,
+                           [nx, ny](double x, double y) { return -(nx * (x - 0.52) + ny * (y - 0.5)); },
+                           kBright);
+  scene.step_edge = SceneStepEdge{0.52, 0.5, nx, ny, kDark, kBright};
+  return scene;
 }
 
 }  // namespace

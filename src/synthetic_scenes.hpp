@@ -15,6 +15,7 @@
 
 #include <array>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,14 @@ struct SceneLayer {
   std::array<float, 3> colour{};  // the first `channels` entries are used
 };
 
+// A scene that is one straight step edge: the line through (x, y) with unit
+// normal (nx, ny) (unit-square coordinates), `low` behind it and `high` on
+// the normal's side. What the edge-sharpness measures need to know.
+struct SceneStepEdge {
+  double x = 0, y = 0, nx = 1, ny = 0;
+  float low = 0, high = 1;
+};
+
 struct Scene {
   std::string name;         // short and stable, e.g. "edge_30"
   std::string description;  // one line: what it shows and where
@@ -38,6 +47,8 @@ struct Scene {
   std::function<void(double x, double y, float* out)> background;
   // Painted in order: a later layer covers earlier ones where they overlap.
   std::vector<SceneLayer> layers;
+  // Set for the straight step edges (edge_*), absent for every other scene.
+  std::optional<SceneStepEdge> step_edge;
 
   // The scene's value at point (x, y) of the unit square; writes `channels`
   // floats. Points exactly on a layer boundary count as outside the layer.
