@@ -96,6 +96,38 @@ bool build_plan(const SimplexMesh<D>& mesh, const std::array<index_t, max_flip_c
   return true;
 }
 
+// The Radon signs (radon_partition's l_i = (-1)^i orient(S \ s_i)) of S =
+// the start cell's vertices plus y, the apex across its facet x, when the
+// vertices in a_mask form exactly one side; false otherwise. Two signs need
+// no predicate: S \ y is the start cell, positive, so l_y = (-1)^(D+1);
+// S \ s_x is the neighbour's vertex set with y moved from place x to the
+// end, D - x transpositions from a negative order, so l_x = l_y. So x and
+// y are on B's side, and A's vertices are tested first to reject early.
+template <int D>
+bool a_is_a_side(const std::array<Vec<D>, D + 2>& s, int x, unsigned a_mask, std::array<int, D + 2>& sign) {
+  const int b_side = (D % 2 == 0) ? -1 : 1;
+  sign[D + 1] = b_side;
+  sign[x] = b_side;
+  auto lambda = [&](int i) {
+    std::array<Vec<D>, D + 1> rest;
+    for (int j = 0, n = 0; j < D + 2; ++j)
+      if (j != i) rest[n++] = s[j];
+    const int o = orient<D>(rest);
+    return (i % 2 == 0) ? o : -o;
+  };
+  for (int i = 0; i <= D; ++i)
+    if (a_mask & (1u << i)) {
+      sign[i] = lambda(i);
+      if (sign[i] != -b_side) return false;
+    }
+  for (int i = 0; i <= D; ++i)
+    if (!(a_mask & (1u << i)) && i != x) {
+      sign[i] = lambda(i);
+      if (sign[i] == -b_side) return false;  // on A's side but not in A
+    }
+  return true;
+}
+
 }  // namespace
 
 template <int D>
@@ -107,16 +139,12 @@ template <int D>
 int propose_flip(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mask, FlipPlan<D>* plans,
                  int max_plans) {
   FlipPlan<D> plan;
-  int first_a = 0;  // a local index in A
-  for (int i = D; i >= 0; --i)
-    if (simplex_mask & (1u << i)) first_a = i;
   for (int i = 0; i <= D; ++i)
     if (simplex_mask & (1u << i)) plan.a[plan.a_count++] = mesh.vertex(start, i);
   if (plan.a_count < 2 || plan.a_count > D) return 0;
 
   std::array<index_t, max_flip_cells<D>> star;
-  int star_count = 0;
-  if (!gather_star(mesh, start, plan.a, plan.a_count, star, star_count)) return 0;
+  int star_count = 0;  // gathered when a circuit first passes (most items fail before)
 
   // Each apex y across a facet of the start cell that contains A closes a
   // set of D + 2 points; a valid flip's circuit is the dependence of one of
@@ -132,24 +160,19 @@ int propose_flip(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mas
     for (int i = 0; i <= D; ++i) ids[i] = start_vertices[i];
     ids[D + 1] = mesh.cell[g];
     for (int i = 0; i < D + 2; ++i) points[i] = mesh.points[ids[i]];
-    const std::array<int, D + 2> sign = radon_partition<D>(points);
-
-    const int a_side = sign[first_a];
-    if (a_side == 0) continue;
-    bool a_is_one_side = true;
+    std::array<int, D + 2> sign;
+    if (!a_is_a_side<D>(points, x, simplex_mask, sign)) continue;
     plan.b_count = 0;
-    for (int i = 0; i < D + 2; ++i) {
-      const bool in_a = i <= D && (simplex_mask & (1u << i));
-      if (in_a != (sign[i] == a_side)) a_is_one_side = false;
-      if (sign[i] == -a_side) plan.b[plan.b_count++] = ids[i];
-    }
-    if (!a_is_one_side || plan.b_count < 2) continue;
+    for (int i = 0; i < D + 2; ++i)
+      if (sign[i] == sign[D + 1]) plan.b[plan.b_count++] = ids[i];
+    if (plan.b_count < 2) continue;
     std::sort(plan.b.begin(), plan.b.begin() + plan.b_count);
     bool seen = false;
     for (int p = 0; p < count; ++p)
       if (plans[p].b_count == plan.b_count && std::equal(plan.b.begin(), plan.b.begin() + plan.b_count, plans[p].b.begin()))
         seen = true;
     if (seen) continue;
+    if (star_count == 0 && !gather_star(mesh, start, plan.a, plan.a_count, star, star_count)) return 0;
     if (build_plan(mesh, star, star_count, plan)) plans[count++] = plan;
   }
   return count;
