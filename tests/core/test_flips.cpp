@@ -1,10 +1,12 @@
 #include "core/check_mesh.hpp"
 #include "core/delaunay.hpp"
 #include "core/flips.hpp"
+#include "core/predicates.hpp"
 #include "core_test_support.hpp"
 
 #include <doctest/doctest.h>
 
+#include <bit>
 #include <map>
 #include <random>
 #include <string>
@@ -264,4 +266,73 @@ TEST_CASE_TEMPLATE("core flips: random flips on a lattice's Delaunay mesh take t
   std::string summary;
   for (const auto& [name, n] : kinds) summary += name + ": " + std::to_string(n) + "  ";
   MESSAGE("lattice flips in ", D, "D: ", summary);
+}
+
+TEST_CASE_TEMPLATE("core propose_flip: a vertex or a whole cell is no flip's simplex", T, Dim<2>, Dim<3>, Dim<4>) {
+  constexpr int D = T::value;
+  const SimplexMesh<D> mesh = delaunay<D>(test::random_points<D>(30, 4));
+  FlipPlan<D> plans[4];
+  for (index_t c = 0; c < mesh.slot_count(); ++c) {
+    CHECK(propose_flip<D>(mesh, c, 1u, plans, 4) == 0);
+    CHECK(propose_flip<D>(mesh, c, (1u << (D + 1)) - 1, plans, 4) == 0);
+  }
+}
+
+TEST_CASE_TEMPLATE("core flips: every flip of a Delaunay mesh in general position breaks the Delaunay property", T,
+                   Dim<2>, Dim<3>, Dim<4>) {
+  constexpr int D = T::value;
+  // The Delaunay triangulation of points in general position is unique, so
+  // no other triangulation (in particular no flip of it) is Delaunay.
+  const SimplexMesh<D> mesh = delaunay<D>(test::random_points<D>(D == 4 ? 30 : 60, 9));
+  REQUIRE(is_delaunay<D>(mesh));
+  int flips = 0;
+  for (index_t c = 0; c < mesh.slot_count() && flips < 60; ++c)
+    for (unsigned mask = 0; mask < (1u << (D + 1)); ++mask) {
+      const int bits = std::popcount(mask);
+      if (bits < 2 || bits > D) continue;
+      FlipPlan<D> plans[4];
+      const int n = propose_flip<D>(mesh, c, mask, plans, 4);
+      for (int p = 0; p < n; ++p) {
+        SimplexMesh<D> copy = mesh;
+        apply_flip(copy, plans[p]);
+        CHECK_FALSE(is_delaunay<D>(copy));
+        ++flips;
+      }
+    }
+  CHECK(flips > 10);
+}
+
+TEST_CASE("core flips 2D: Lawson's flips of non-Delaunay edges return a scrambled mesh to the Delaunay triangulation") {
+  const auto points = test::random_points<2>(120, 40);
+  const SimplexMesh<2> delaunay_mesh = delaunay<2>(points);
+  SimplexMesh<2> mesh = delaunay_mesh;
+  std::mt19937 rng(2);
+  for (int step = 0; step < 400; ++step) {
+    const index_t c = static_cast<index_t>(rng() % mesh.slot_count());
+    FlipPlan<2> plan;
+    if (propose_flip<2>(mesh, c, 0x7u & ~(1u << (rng() % 3)), &plan, 1) == 1) apply_flip(mesh, plan);
+  }
+  REQUIRE(check_mesh<2>(mesh) == "");
+  REQUIRE_FALSE(is_delaunay<2>(mesh));
+  // In 2D an edge whose opposite apex is inside the circumcircle always has
+  // a convex quadrilateral, so its 2-2 flip is offered.
+  bool changed = true;
+  int flips = 0;
+  while (changed) {
+    changed = false;
+    for (index_t c = 0; c < mesh.slot_count(); ++c)
+      for (int i = 0; i < 3; ++i) {
+        const index_t g = mesh.opp[3 * c + i];
+        if (g == no_facet || in_sphere<2>(mesh.cell_points(c), mesh.points[mesh.cell[g]]) <= 0) continue;
+        FlipPlan<2> plan;
+        REQUIRE(propose_flip<2>(mesh, c, 0x7u & ~(1u << i), &plan, 1) == 1);
+        apply_flip(mesh, plan);
+        changed = true;
+        ++flips;
+        break;
+      }
+  }
+  CHECK(flips > 0);
+  CHECK(check_mesh<2>(mesh) == "");
+  CHECK(test::cell_set(mesh) == test::cell_set(delaunay_mesh));
 }
