@@ -101,7 +101,7 @@ std::string check_mesh(const SimplexMesh<D>& mesh) {
         return problem.str();
       }
       CellVertices<D> swapped = v;
-      swapped[i] = mesh.cell[g];
+      swapped[i] = mesh.apex_across(f);
       if (orient_ids<D>(mesh.points, swapped) >= 0) {
         problem << "cells " << c << " and " << cell_of<D>(g) << " lie on the same side of their facet";
         return problem.str();
@@ -129,13 +129,13 @@ bool is_delaunay(const SimplexMesh<D>& mesh) {
     const auto p = mesh.cell_points(c);
     for (int i = 0; i <= D; ++i) {
       const index_t g = mesh.opp[(D + 1) * c + i];
-      if (g != no_facet && in_sphere<D>(p, mesh.points[mesh.cell[g]]) > 0) return false;
+      if (g != no_facet && in_sphere<D>(p, mesh.points[mesh.apex_across((D + 1) * c + i)]) > 0) return false;
     }
   }
   return true;
 }
 
-#define DDT_CORE_INSTANTIATE(D)                                    \
+#define DDT_CORE_INSTANTIATE(D)                              \
   template std::string check_mesh<D>(const SimplexMesh<D>&); \
   template bool is_delaunay<D>(const SimplexMesh<D>&);
 DDT_CORE_INSTANTIATE(2)

@@ -15,6 +15,7 @@
 #include <CGAL/Triangulation_vertex_base_with_info_3.h>
 
 #include <algorithm>
+#include <map>
 #include <utility>
 
 namespace ddt::core {
@@ -53,12 +54,19 @@ std::vector<CellVertices<D>> cgal_cells(const std::vector<Vec<D>>& points) {
     using Cb = CGAL::Triangulation_full_cell<Kernel>;
     using Tds = CGAL::Triangulation_data_structure<CGAL::Dimension_tag<D>, Vb, Cb>;
     using Delaunay = CGAL::Delaunay_triangulation<Kernel, Tds>;
+    // The range insertion sorts spatially first; it loses the ids, which
+    // come back through the coordinates (the points are distinct).
+    std::vector<typename Kernel::Point_d> input;
+    input.reserve(points.size());
+    for (const Vec<D>& p : points) input.emplace_back(p.begin(), p.end());
     Delaunay dt(D);
-    typename Delaunay::Vertex_handle hint;
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      const typename Kernel::Point_d p(points[i].begin(), points[i].end());
-      hint = hint == typename Delaunay::Vertex_handle() ? dt.insert(p) : dt.insert(p, hint);
-      hint->data() = static_cast<index_t>(i);
+    dt.insert(input.begin(), input.end());
+    std::map<Vec<D>, index_t> id_of;
+    for (std::size_t i = 0; i < points.size(); ++i) id_of.emplace(points[i], static_cast<index_t>(i));
+    for (auto v = dt.finite_vertices_begin(); v != dt.finite_vertices_end(); ++v) {
+      Vec<D> p;
+      for (int k = 0; k < D; ++k) p[k] = v->point()[k];
+      v->data() = id_of.at(p);
     }
     if (dt.current_dimension() < D) return cells;
     for (auto c = dt.finite_full_cells_begin(); c != dt.finite_full_cells_end(); ++c) {

@@ -136,8 +136,7 @@ std::string flip_name(const FlipPlan<D>& plan) {
 }
 
 template <int D>
-int propose_flip(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mask, FlipPlan<D>* plans,
-                 int max_plans) {
+int propose_flip(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mask, FlipPlan<D>* plans, int max_plans) {
   FlipPlan<D> plan;
   for (int i = 0; i <= D; ++i)
     if (simplex_mask & (1u << i)) plan.a[plan.a_count++] = mesh.vertex(start, i);
@@ -158,7 +157,7 @@ int propose_flip(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mas
     std::array<index_t, D + 2> ids;
     std::array<Vec<D>, D + 2> points;
     for (int i = 0; i <= D; ++i) ids[i] = start_vertices[i];
-    ids[D + 1] = mesh.cell[g];
+    ids[D + 1] = mesh.apex_across((D + 1) * start + x);
     for (int i = 0; i < D + 2; ++i) points[i] = mesh.points[ids[i]];
     std::array<int, D + 2> sign;
     if (!a_is_a_side<D>(points, x, simplex_mask, sign)) continue;
@@ -169,7 +168,8 @@ int propose_flip(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mas
     std::sort(plan.b.begin(), plan.b.begin() + plan.b_count);
     bool seen = false;
     for (int p = 0; p < count; ++p)
-      if (plans[p].b_count == plan.b_count && std::equal(plan.b.begin(), plan.b.begin() + plan.b_count, plans[p].b.begin()))
+      if (plans[p].b_count == plan.b_count &&
+          std::equal(plan.b.begin(), plan.b.begin() + plan.b_count, plans[p].b.begin()))
         seen = true;
     if (seen) continue;
     if (star_count == 0 && !gather_star(mesh, start, plan.a, plan.a_count, star, star_count)) return 0;
@@ -246,9 +246,9 @@ void apply_flip(SimplexMesh<D>& mesh, const FlipPlan<D>& plan, index_t* new_slot
     for (int k = 0; k < plan.inserted_count; ++k) new_slots[k] = slots[k];
 }
 
-#define DDT_CORE_INSTANTIATE(D)                                                                             \
-  template std::string flip_name<D>(const FlipPlan<D>&);                                                    \
-  template int propose_flip<D>(const SimplexMesh<D>&, index_t, unsigned, FlipPlan<D>*, int);               \
+#define DDT_CORE_INSTANTIATE(D)                                                              \
+  template std::string flip_name<D>(const FlipPlan<D>&);                                     \
+  template int propose_flip<D>(const SimplexMesh<D>&, index_t, unsigned, FlipPlan<D>*, int); \
   template void apply_flip<D>(SimplexMesh<D>&, const FlipPlan<D>&, index_t*);
 DDT_CORE_INSTANTIATE(2)
 DDT_CORE_INSTANTIATE(3)

@@ -88,8 +88,7 @@ std::string flip_name(const FlipPlan<D>& plan);
 // start is live; simplex_mask has 2 .. D bits (others give 0 plans).
 // Complexity: O(max_flip_cells (D + 2)) orientation tests.
 template <int D>
-int propose_flip(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mask, FlipPlan<D>* plans,
-                 int max_plans);
+int propose_flip(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mask, FlipPlan<D>* plans, int max_plans);
 
 // Replaces plan.removed by plan.inserted and relinks every facet by its
 // key: inside the region among the new cells, on its boundary to the old

@@ -1,5 +1,7 @@
 // The one place the core reaches CGAL's predicates (the dD kernel's headers
-// are heavy: no header of ours includes them).
+// are heavy: no header of ours includes them). Epick_d needs Eigen: CGAL
+// enables it when Eigen's headers are on the include path, which
+// ddtscale_lib's Eigen3::Eigen dependency provides.
 #include "core/predicates.hpp"
 
 #include <CGAL/Epick_d.h>
@@ -98,10 +100,10 @@ std::array<int, D + 2> radon_partition(const std::array<Vec<D>, D + 2>& s) {
   return sign;
 }
 
-#define DDT_CORE_INSTANTIATE(D)                                                 \
-  template int orient<D>(const std::array<Vec<D>, D + 1>&);                     \
-  template int in_sphere<D>(const std::array<Vec<D>, D + 1>&, const Vec<D>&);   \
-  template int perturbed_orient<D>(const std::array<Vec<D>, D + 1>&);           \
+#define DDT_CORE_INSTANTIATE(D)                                               \
+  template int orient<D>(const std::array<Vec<D>, D + 1>&);                   \
+  template int in_sphere<D>(const std::array<Vec<D>, D + 1>&, const Vec<D>&); \
+  template int perturbed_orient<D>(const std::array<Vec<D>, D + 1>&);         \
   template std::array<int, D + 2> radon_partition<D>(const std::array<Vec<D>, D + 2>&);
 DDT_CORE_INSTANTIATE(1)
 DDT_CORE_INSTANTIATE(2)

@@ -48,7 +48,7 @@ SimplexMesh<D> mesh_from_cells(std::vector<Vec<D>> points, const std::vector<Cel
   return mesh;
 }
 
-#define DDT_CORE_INSTANTIATE(D)                   \
+#define DDT_CORE_INSTANTIATE(D)                  \
   template bool link_facets<D>(SimplexMesh<D>&); \
   template SimplexMesh<D> mesh_from_cells<D>(std::vector<Vec<D>>, const std::vector<CellVertices<D>>&);
 DDT_CORE_INSTANTIATE(2)

@@ -56,9 +56,9 @@ struct SimplexMesh {
   static_assert(D >= 1, "a simplex mesh has dimension 1 or more");
   static constexpr int cell_size = D + 1;
 
-  std::vector<Vec<D>> points;      // #V vertex positions
-  std::vector<index_t> cell;       // (D+1) * #slots vertex ids, positively oriented
-  std::vector<index_t> opp;        // (D+1) * #slots glued facets, no_facet on the hull
+  std::vector<Vec<D>> points;       // #V vertex positions
+  std::vector<index_t> cell;        // (D+1) * #slots vertex ids, positively oriented
+  std::vector<index_t> opp;         // (D+1) * #slots glued facets, no_facet on the hull
   std::vector<index_t> free_slots;  // slots whose cell was removed
 
   index_t slot_count() const { return static_cast<index_t>(cell.size() / cell_size); }

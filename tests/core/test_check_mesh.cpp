@@ -28,9 +28,7 @@ SimplexMesh<D> two_cells() {
   return mesh_from_cells<D>(points, {first, second});
 }
 
-bool mentions(const std::string& problem, const std::string& word) {
-  return problem.find(word) != std::string::npos;
-}
+bool mentions(const std::string& problem, const std::string& word) { return problem.find(word) != std::string::npos; }
 
 }  // namespace
 

@@ -66,8 +66,8 @@ int compare_all_flips(const Mesh3& m) {
       core::FlipPlan<3> found[4];
       const int n = core::propose_flip<3>(c, t, 0xFu & ~(1u << i), found, 4);
       for (int p = 0; p < n; ++p)
-        core_flips.insert(as_set(found[p].removed.data(), found[p].removed_count, found[p].inserted,
-                                 found[p].inserted_count));
+        core_flips.insert(
+            as_set(found[p].removed.data(), found[p].removed_count, found[p].inserted, found[p].inserted_count));
       REQUIRE_MESSAGE(reference == core_flips, "face ", i, " of tetrahedron ", t);
       flippable += !reference.empty();
     }
@@ -82,8 +82,8 @@ int compare_all_flips(const Mesh3& m) {
       const unsigned mask = (1u << edge_vertex[k][0]) | (1u << edge_vertex[k][1]);
       const int n = core::propose_flip<3>(c, t, mask, found, 4);
       for (int p = 0; p < n; ++p)
-        core_flips.insert(as_set(found[p].removed.data(), found[p].removed_count, found[p].inserted,
-                                 found[p].inserted_count));
+        core_flips.insert(
+            as_set(found[p].removed.data(), found[p].removed_count, found[p].inserted, found[p].inserted_count));
       REQUIRE_MESSAGE(reference == core_flips, "edge ", k, " of tetrahedron ", t);
       flippable += !reference.empty();
     }

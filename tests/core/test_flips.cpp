@@ -95,8 +95,8 @@ TEST_CASE("core flips 3D: 2-3 replaces a triangle pierced by d-e by the edge d-e
 
 TEST_CASE("core flips 3D: 4-4 is the 2D 2-2 of a coplanar a, b, w0, w2 joined with w1 and w3") {
   const SimplexMesh<3> mesh = ring_of_four({0.2, 1, 0.3});  // only a, b, w0, w2 coplanar (y = 0)
-  const auto plan = check_flip_and_back(mesh, {0, 1}, "4-4",
-                                        cells_of<3>({{2, 4, 3, 0}, {2, 4, 3, 1}, {2, 4, 5, 0}, {2, 4, 5, 1}}));
+  const auto plan =
+      check_flip_and_back(mesh, {0, 1}, "4-4", cells_of<3>({{2, 4, 3, 0}, {2, 4, 3, 1}, {2, 4, 5, 0}, {2, 4, 5, 1}}));
   CHECK(plan.degenerate());
   CHECK(plan.circuit_dimension() == 2);
   CHECK(plan.link_count == 2);
@@ -131,8 +131,8 @@ TEST_CASE("core flips 3D: the hull 2-2 is the 2D 2-2 joined with one vertex; a n
 }
 
 TEST_CASE("core flips 4D: 2-4 replaces a tetrahedron pierced by d-e by the edge d-e, and 4-2 returns") {
-  const std::vector<Vec<4>> p = {{0, 0, 0, 0}, {3, 0, 0, 0}, {0, 3, 0, 0}, {0, 0, 3, 0}, {0.5, 0.5, 0.5, 1},
-                                 {0.5, 0.5, 0.5, -1}};
+  const std::vector<Vec<4>> p = {{0, 0, 0, 0}, {3, 0, 0, 0},       {0, 3, 0, 0},
+                                 {0, 0, 3, 0}, {0.5, 0.5, 0.5, 1}, {0.5, 0.5, 0.5, -1}};
   const SimplexMesh<4> mesh = mesh_from_cells<4>(p, {{0, 1, 2, 3, 4}, {0, 1, 2, 3, 5}});
   check_flip_and_back(mesh, {0, 1, 2, 3}, "2-4",
                       cells_of<4>({{1, 2, 3, 4, 5}, {0, 2, 3, 4, 5}, {0, 1, 3, 4, 5}, {0, 1, 2, 4, 5}}));
@@ -151,8 +151,8 @@ TEST_CASE("core flips 4D: 3-3 exchanges two triangles whose interiors cross") {
 TEST_CASE("core flips 4D: 6-6 is a planar 2-2 joined with a cycle of three edges") {
   // The quadrilateral a0 b0 a1 b1 in the plane x3 = x4 = 0; the link
   // triangle l0 l1 l2 in x1 = x2 = 0 winds around it.
-  const std::vector<Vec<4>> p = {{-1, 0, 0, 0},  {1, 0.2, 0, 0},  {0.1, -1, 0, 0}, {-0.2, 1, 0, 0},
-                                 {0, 0, 1, 0},   {0, 0, -1, 1},   {0, 0, -1, -1}};
+  const std::vector<Vec<4>> p = {{-1, 0, 0, 0}, {1, 0.2, 0, 0}, {0.1, -1, 0, 0}, {-0.2, 1, 0, 0},
+                                 {0, 0, 1, 0},  {0, 0, -1, 1},  {0, 0, -1, -1}};
   std::vector<CellVertices<4>> before, after;
   for (int j = 0; j < 3; ++j) {
     const index_t l = 4 + j, m = 4 + (j + 1) % 3;
@@ -168,7 +168,7 @@ TEST_CASE("core flips 4D: 6-6 is a planar 2-2 joined with a cycle of three edges
 
 TEST_CASE("core flips 4D: 4-6 is a 3-flat's 2-3 joined with two vertices, the hull 2-3 with one") {
   // The bipyramid a b c | d e in x4 = 0; link vertices above and below.
-  const std::vector<Vec<4>> p = {{0, 0, 0, 0}, {3, 0, 0, 0}, {0, 3, 0, 0}, {1, 1, 2, 0},
+  const std::vector<Vec<4>> p = {{0, 0, 0, 0},  {3, 0, 0, 0},       {0, 3, 0, 0},       {1, 1, 2, 0},
                                  {1, 1, -1, 0}, {0.5, 0.5, 0.2, 1}, {0.5, 0.5, 0.2, -1}};
   std::vector<CellVertices<4>> before, after;
   for (index_t link : {5, 6}) {

@@ -129,8 +129,9 @@ TEST_CASE_TEMPLATE("core in_sphere: inside, on and outside the unit simplex's ci
   }
 }
 
-TEST_CASE_TEMPLATE("core perturbed_orient: a point on a facet goes to the side of q + (e, e^2, ..., e^D), antisymmetric",
-                   T, Dim<2>, Dim<3>, Dim<4>) {
+TEST_CASE_TEMPLATE(
+    "core perturbed_orient: a point on a facet goes to the side of q + (e, e^2, ..., e^D), antisymmetric", T, Dim<2>,
+    Dim<3>, Dim<4>) {
   constexpr int D = T::value;
   // Small integer facets; q on the facet (a vertex or an edge midpoint).
   // orient is linear in q, so orient(q + (d, d^2, ..., d^D)) is exactly
