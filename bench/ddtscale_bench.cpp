@@ -384,18 +384,24 @@ int main(int argc, char** argv) {
 
     // End to end, x4 to EXR, against oiiotool.
     if (wanted("end-to-end")) {
-      std::vector<double> t_oiio, t_cubic, t_linear;
-      std::vector<double> r_oiio, r_cubic, r_linear;
+      std::vector<double> t_oiio, t_cubic, t_linear, t_point;
+      std::vector<double> r_oiio, r_cubic, r_linear, r_point;
       const std::string out_oiio = (W / "out_oiio.exr").string(), out_ddt = (W / "out_ddt.exr").string();
       for (int r = 0; r < runs; ++r) {
         Child a = run({"oiiotool", in1024, "--resize:filter=catmull-rom", "400%", "-o", out_oiio});
         Child b = run({ddtscale, in1024, out_ddt, "--scale", "4", "--quiet"});
         Child c = run({ddtscale, in1024, out_ddt, "--scale", "4", "--quiet", "--render", "linear"});
-        if (a.status || b.status || c.status) throw std::runtime_error("an end-to-end run failed");
+        // The plain interpolation, the default before the consistent reconstruction.
+        Child d = run({ddtscale, in1024, out_ddt, "--scale", "4", "--quiet", "--model", "point"});
+        if (a.status || b.status || c.status || d.status) throw std::runtime_error("an end-to-end run failed");
         t_oiio.push_back(a.seconds), t_cubic.push_back(b.seconds), t_linear.push_back(c.seconds);
+        t_point.push_back(d.seconds);
         r_oiio.push_back(a.max_rss_kb), r_cubic.push_back(b.max_rss_kb), r_linear.push_back(c.max_rss_kb);
-        std::fprintf(stderr, "end to end run %d/%d: oiiotool %.2f s, ddtscale %.2f s, ddtscale linear %.2f s\n", r + 1,
-                     runs, a.seconds, b.seconds, c.seconds);
+        r_point.push_back(d.max_rss_kb);
+        std::fprintf(stderr,
+                     "end to end run %d/%d: oiiotool %.2f s, ddtscale %.2f s, ddtscale linear %.2f s, "
+                     "ddtscale --model point %.2f s\n",
+                     r + 1, runs, a.seconds, b.seconds, c.seconds, d.seconds);
       }
       Table t{{"command (1024x1024 RGB PNG -> 4096x4096 EXR)", "median wall", "min .. max", "ratio to oiiotool",
                "peak RSS (median)"},
@@ -407,8 +413,11 @@ int main(int argc, char** argv) {
                           format("%.2f", median(s) / median(t_oiio)), mb(static_cast<long>(median(m)))});
       };
       row("`oiiotool in.png --resize:filter=catmull-rom 400% -o out.exr`", t_oiio, r_oiio);
-      row("`ddtscale in.png out.exr --scale 4` (cubic render, default)", t_cubic, r_cubic);
+      row("`ddtscale in.png out.exr --scale 4` (cubic render, box model: default)", t_cubic, r_cubic);
       row("`ddtscale in.png out.exr --scale 4 --render linear`", t_linear, r_linear);
+      row("`ddtscale in.png out.exr --scale 4 --model point` (no consistency)", t_point, r_point);
+      t.rows.push_back({"default / `--model point`", format("%.2f", median(t_cubic) / median(t_point)), "", "",
+                        format("%.2f", median(r_cubic) / median(r_point))});
       emit("## End to end, x4 to EXR (" + std::to_string(runs) + " runs each, interleaved)\n\n" + t.str() + "\n");
     }
 

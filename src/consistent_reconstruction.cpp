@@ -242,7 +242,15 @@ void make_consistent(Image& out, const Mesh2& mesh, const Mesh2& grid_mesh, cons
   if (options.limit_halos) {
     local.halo_footprints = limit_halos(out, src);
     // Where limiting moved a footprint's acquisition (models other than
-    // box, non-integer scales), one more exact correction on the grid.
+    // box, non-integer scales), one more exact correction on the grid; box
+    // at integer scales acquires exactly the footprint means it kept.
+    const bool kept_exactly = options.model.kind == AcquisitionModel::Kind::box && out.width % W == 0 &&
+                              out.height % H == 0;
+    if (kept_exactly || local.halo_footprints == 0) {
+      local.seconds_render = seconds_since(t0);
+      if (stats) *stats = local;
+      return;
+    }
     const Image again = apply_acquisition(options.model, out, W, H);
     std::vector<double> rest_after(src.pixels.size());
     for (std::size_t i = 0; i < rest_after.size(); ++i) rest_after[i] = double(src.pixels[i]) - again.pixels[i];
