@@ -119,27 +119,40 @@ int bicgstab(const SparseRows& A, const std::vector<double>& b, std::vector<doub
 }
 
 // The range an output pixel may take in footprint (x, y) of channel c: that
-// of the 3x3 input pixels around it, open below where the pixel is the
-// strict minimum of them (a dark feature thinner than a pixel: the truth
-// inside it is darker than any input pixel) and above where it is the
-// strict maximum. A bright rim beside a dark line, or a dark one beside a
-// bright line, lies outside it: that is the halo.
-std::pair<float, float> halo_bounds(const Image& src, int x, int y, int c) {
+// of the 3x3 input pixels around it. Where the pixel is the strict minimum
+// of them it may hold a dark feature thinner than a pixel, whose truth is
+// darker than any input pixel: the range reaches down to the 5x5
+// minimum, and is open below where the pixel is the strict minimum of the
+// 5x5 too (an isolated dark dot), down to the darkest input pixel of the
+// image (no feature is darker than what the image shows somewhere whole);
+// likewise above. A bright rim beside a
+// dark line, or a dark one beside a bright line, lies outside it: that is
+// the halo; and a bright gap between two dark strokes gets no brighter
+// than the background seen within two pixels.
+std::pair<float, float> halo_bounds(const Image& src, int x, int y, int c, float image_min, float image_max) {
   const float centre = src.at(x, y, c);
-  float lo = centre, hi = centre;
-  bool strict_min = true, strict_max = true;
-  for (int dy = -1; dy <= 1; ++dy)
-    for (int dx = -1; dx <= 1; ++dx) {
-      if (dx == 0 && dy == 0) continue;
+  float lo3 = centre, hi3 = centre, lo5 = centre, hi5 = centre;
+  bool strict_min3 = true, strict_max3 = true, strict_min5 = true, strict_max5 = true;
+  for (int dy = -2; dy <= 2; ++dy)
+    for (int dx = -2; dx <= 2; ++dx) {
       const int nx = std::clamp(x + dx, 0, src.width - 1), ny = std::clamp(y + dy, 0, src.height - 1);
       if (nx == x && ny == y) continue;
       const float v = src.at(nx, ny, c);
-      lo = std::min(lo, v);
-      hi = std::max(hi, v);
-      strict_min = strict_min && v > centre;
-      strict_max = strict_max && v < centre;
+      const bool inner = std::abs(dx) <= 1 && std::abs(dy) <= 1;
+      if (inner) {
+        lo3 = std::min(lo3, v);
+        hi3 = std::max(hi3, v);
+        strict_min3 = strict_min3 && v > centre;
+        strict_max3 = strict_max3 && v < centre;
+      }
+      lo5 = std::min(lo5, v);
+      hi5 = std::max(hi5, v);
+      strict_min5 = strict_min5 && v > centre;
+      strict_max5 = strict_max5 && v < centre;
     }
-  return {strict_min ? -INFINITY : lo, strict_max ? INFINITY : hi};
+  const float lo = !strict_min3 ? lo3 : strict_min5 ? image_min : lo5;
+  const float hi = !strict_max3 ? hi3 : strict_max5 ? image_max : hi5;
+  return {lo, hi};
 }
 
 // Removes halos without losing consistency: in each footprint (the output
@@ -153,12 +166,17 @@ long long limit_halos(Image& out, const Image& src) {
   std::vector<int> first_x(src.width + 1), first_y(src.height + 1);
   for (int x = 0; x <= src.width; ++x) first_x[x] = std::min(out.width, static_cast<int>(std::ceil(x * sx - 0.5)));
   for (int y = 0; y <= src.height; ++y) first_y[y] = std::min(out.height, static_cast<int>(std::ceil(y * sy - 0.5)));
+  std::vector<float> image_min(src.channels, INFINITY), image_max(src.channels, -INFINITY);
+  for (std::size_t i = 0; i < src.pixels.size(); ++i) {
+    image_min[i % src.channels] = std::min(image_min[i % src.channels], src.pixels[i]);
+    image_max[i % src.channels] = std::max(image_max[i % src.channels], src.pixels[i]);
+  }
   std::atomic<long long> limited{0};
   tbb::parallel_for(0, src.height, [&](int y) {
     std::vector<float> o;
     for (int x = 0; x < src.width; ++x)
       for (int c = 0; c < src.channels; ++c) {
-        const auto [lo, hi] = halo_bounds(src, x, y, c);
+        const auto [lo, hi] = halo_bounds(src, x, y, c, image_min[c], image_max[c]);
         o.clear();
         float omin = INFINITY, omax = -INFINITY;
         for (int Y = first_y[y]; Y < first_y[y + 1]; ++Y)

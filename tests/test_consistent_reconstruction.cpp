@@ -3,6 +3,7 @@
 // consistent_reconstruction.hpp).
 #include "acquisition_model.hpp"
 #include "consistent_reconstruction.hpp"
+#include "edge_sharpness.hpp"
 #include "error.hpp"
 #include "footprint_operator.hpp"
 #include "optimizer.hpp"
@@ -203,4 +204,40 @@ TEST_CASE("add_linear_surface: adds what render_mesh's linear render draws") {
     for (float& x : added.pixels) x -= 0.25f;
     CHECK(max_difference(rendered, added) < 1e-5);
   }
+}
+
+TEST_CASE("upscale: the default leaves the truth's range by at most 1 % of the step beside edges") {
+  // The bound against the truth: a consistent reconstruction must
+  // darken thin lines below any input pixel, so the 3x3-input-range bound
+  // of --model point does not apply; the true scene's range near each pixel
+  // does. Bicubic and Lanczos fail it beside every edge (test_edge_sharpness).
+  for (const char* name : {"edge_10", "edge_30", "edge_63", "disk", "strokes", "thin_line"})
+    for (int s : {4, 10}) {
+      CAPTURE(std::string(name));
+      CAPTURE(s);
+      const Scene& scene = find_scene(name);
+      const int w = 32;
+      const Image lr = render_scene(scene, w, w);
+      const Image hr = render_scene(scene, w * s, w * s);
+      const Image out = upscale(lr, w * s, w * s);
+      TruthHaloOptions halo;
+      halo.shave = s;
+      CHECK(truth_halo(out, hr, s, halo) <= 0.01);
+    }
+}
+
+TEST_CASE("upscale: the default's edges rise faster than --model point's, without overshoot") {
+  const Scene& scene = find_scene("edge_30");
+  const int w = 48, s = 10;
+  const Image lr = render_scene(scene, w, w);
+  UpscaleOptions point;
+  point.model.kind = AcquisitionModel::Kind::point;
+  const SceneStepEdge& e = *scene.step_edge;
+  const StepEdge edge{e.x * w * s, e.y * w * s, e.nx, e.ny, e.low, e.high};  // a square image: the normal stays
+  const EdgeSharpness consistent = measure_edge_sharpness(upscale(lr, w * s, w * s), edge, s);
+  const EdgeSharpness plain = measure_edge_sharpness(upscale(lr, w * s, w * s, point), edge, s);
+  MESSAGE("edge_30 x10 rise: box " << consistent.rise_width << ", point " << plain.rise_width);
+  CHECK(consistent.rise_width < 0.7 * plain.rise_width);
+  CHECK(consistent.rise_width < 0.6);
+  CHECK(consistent.overshoot < 0.01);
 }
