@@ -24,6 +24,7 @@
 #include <cstring>
 #include <iostream>
 #include <memory>
+#include <thread>
 
 #include <unistd.h>
 
@@ -143,7 +144,8 @@ int run_upscale(int argc, char** argv) {
   add_optimizer_options(app, args.optimizer, args.anneal);
   app.add_flag("-v,--verbose", args.verbose, "report iterations, flips, cost and the time of each stage");
   app.add_flag("-q,--quiet", args.quiet, "print nothing but errors (and no progress bar)");
-  app.add_option("--threads", args.threads, "threads to use (default: all cores)")->check(CLI::NonNegativeNumber);
+  app.add_option("--threads", args.threads, "threads to use (default: all cores; more than the cores are not used)")
+      ->check(CLI::Range(0, 4096));
   app.add_option("--tile-rows", args.tile_rows,
                  "process the image in bands of this many input rows (same output; default: only when it would "
                  "not fit in half the memory; -1: never)");
@@ -191,6 +193,8 @@ int run_upscale(int argc, char** argv) {
 
   try {
     ddt::find_cost(args.cost);  // fail fast on a typo
+    if (!(args.tolerance >= 0.0 && args.tolerance <= 1.0))  // CLI::Range lets NaN through
+      throw ddt::Error("--tolerance must be a number in [0, 1]");
     ddt::check_output_path(args.output, args.input);
     ddt::PixelRegion roi;
     if (!args.mesh_roi.empty()) roi = ddt::parse_region(args.mesh_roi);
@@ -201,6 +205,9 @@ int run_upscale(int argc, char** argv) {
     }
     // Both cores unless --threads says otherwise (TBB for our stages, OIIO's pool for reading and writing).
     std::unique_ptr<tbb::global_control> thread_limit;
+    // More threads than cores only slow the work down (each its own buffers).
+    const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    if (args.threads > cores) args.threads = cores;
     if (args.threads > 0) {
       thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, args.threads);
       OIIO::attribute("threads", args.threads);
@@ -233,6 +240,11 @@ int run_upscale(int argc, char** argv) {
         "x" + std::to_string(file.image.channels) + ", " + std::to_string(seconds_since(t0)) + " s");
     int out_w = 0, out_h = 0;
     output_size(args, file.image.width, file.image.height, out_w, out_h);
+    // What the output's format cannot store is refused now, not after the work.
+    const int compare_gap = std::max(2, out_w / 256);
+    const int written_w = args.compare.empty() ? out_w : 2 * out_w + compare_gap;
+    ddt::check_image_writable(args.output, written_w, out_h, file.image.channels, file.format, file.alpha_channel);
+    if (!args.mesh_view.empty()) ddt::check_region(roi, file.image.width, file.image.height);
 
     ddt::UpscaleOptions options;
     options.cost = args.cost;
@@ -256,7 +268,7 @@ int run_upscale(int argc, char** argv) {
     if (!args.compare.empty()) {
       t0 = std::chrono::steady_clock::now();
       const ddt::Image classic = ddt::classic_resize(file.image, out_w, out_h, args.compare);
-      out = ddt::side_by_side(classic, out, std::max(2, out_w / 256), 0.0f, file.alpha_channel);
+      out = ddt::side_by_side(classic, out, compare_gap, 0.0f, file.alpha_channel);
       log("compare: " + args.compare + " | ddt, " + std::to_string(seconds_since(t0)) + " s");
     }
     if (!args.mesh_view.empty()) {
@@ -280,7 +292,7 @@ int run_upscale(int argc, char** argv) {
     log("write: " + args.output + ", " + std::to_string(seconds_since(t0)) + " s");
     if (bar) bar->stop();
     if (!args.quiet && !args.verbose)
-      std::cerr << args.output << ": " << out_w << "x" << out_h << "\n";
+      std::cerr << args.output << ": " << out.width << "x" << out.height << "\n";  // as written (--compare: both halves)
     return 0;
   } catch (const ddt::Error& e) {
     std::cerr << "ddtscale: " << e.what() << "\n";

@@ -72,6 +72,7 @@ int run_volume_upscale(int argc, char** argv) {
   std::vector<std::string> compare;
   long long max_voxels = 1LL << 29;
   bool verbose = false, quiet = false;
+  ddt::VolumeReadOptions read_options;
   CLI::App app{"ddtscale (volumes): enlarge a scalar NRRD volume by data-dependent tetrahedrization.\n"
                "The voxels become a 3D scalar field, tetrahedrized (Delaunay, then bistellar 2-3, 3-2, 4-4 and\n"
                "hull 2-2 flips that lower the weighted content of the paper's cost) so that long thin\n"
@@ -109,6 +110,8 @@ int run_volume_upscale(int argc, char** argv) {
   app.add_flag("-v,--verbose", verbose,
                "report stages, flips of each kind per iteration, cost, times and peak memory");
   app.add_flag("-q,--quiet", quiet, "print nothing but errors");
+  app.add_flag("--any-data-file", read_options.any_data_path,
+               "let a detached header name a data file outside its directory (absolute or '..' paths)");
   app.footer(
       "\nCosts (the paper's weighted content, sum over tetrahedra of volume * weight):\n"
       "  variance   weight = variance of the four vertex values (default; the paper's 3D experiments)\n"
@@ -138,8 +141,9 @@ int run_volume_upscale(int argc, char** argv) {
       throw ddt::Error("the input '" + input + "' is not a volume: give a .nrrd or .nhdr file");
     if (!ddt::is_volume_path(output))
       throw ddt::Error("cannot write '" + output + "': a volume is written as .nrrd or .nhdr (pictures: --picture)");
-    ddt::check_volume_output_path(output, input);
-    for (const auto& m : compare) ddt::check_volume_output_path(sibling_path(output, m), input);
+    if (!(tolerance >= 0.0 && tolerance <= 1.0)) throw ddt::Error("--tolerance must be a number in [0, 1]");
+    ddt::check_volume_output_path(output, input, read_options);
+    for (const auto& m : compare) ddt::check_volume_output_path(sibling_path(output, m), input, read_options);
     if (!picture.empty()) ddt::check_output_path(picture, input);
     if (scale != 0 && !size_spec.empty()) throw ddt::Error("give either --scale or --size, not both");
     if (scale == 0 && size_spec.empty()) throw ddt::Error("give the magnification: --scale S, or --size N or XxYxZ");
@@ -149,7 +153,7 @@ int run_volume_upscale(int argc, char** argv) {
       if (verbose) std::cerr << line << "\n";
     };
     auto t0 = std::chrono::steady_clock::now();
-    const ddt::VolumeFile file = ddt::read_volume(input);
+    const ddt::VolumeFile file = ddt::read_volume(input, read_options);
     const ddt::Volume& src = file.volume;
     log("read: " + input + ", " + size_text(src) + ", " + ddt::sample_type_name(file.type) + ", " +
         ddt::encoding_name(file.encoding) + ", " + std::to_string(seconds_since(t0)) + " s");

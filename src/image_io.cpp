@@ -8,9 +8,7 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <mutex>
-#include <random>
 #include <system_error>
 
 #include <fcntl.h>
@@ -97,9 +95,7 @@ class QuietLibraries {
 }  // namespace
 
 ImageFile read_image(const std::string& path) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw Error("cannot read '" + path + "': no such file");
-  if (fs::is_directory(path, ec)) throw Error("cannot read '" + path + "': it is a directory");
+  check_regular_file(path);
   const QuietLibraries quiet;
   auto in = OIIO::ImageInput::open(path);
   if (!in) {
@@ -132,12 +128,12 @@ ImageFile read_image(const std::string& path) {
 void check_output_path(const std::string& output, const std::string& input, bool image_format) {
   std::error_code ec;
   if (output.empty()) throw Error("no output file given");
-  if (!input.empty() && fs::exists(output, ec) && fs::equivalent(output, input, ec))
-    throw Error("output '" + output + "' is the input file; refusing to overwrite it");
+  if (!input.empty()) check_not_an_input(output, {input});
   if (!input.empty() && fs::weakly_canonical(output, ec) == fs::weakly_canonical(input, ec))
     throw Error("output '" + output + "' is the input file; refusing to overwrite it");
-  if (fs::is_directory(output, ec)) throw Error("output '" + output + "' is a directory");
-  fs::path dir = fs::path(output).parent_path();
+  const fs::path target = resolve_output_link(output);  // a symlink: the file it points to is replaced
+  if (fs::is_directory(target, ec)) throw Error("output '" + output + "' is a directory");
+  fs::path dir = target.parent_path();
   if (dir.empty()) dir = ".";
   if (!fs::is_directory(dir, ec)) throw Error("output directory '" + dir.string() + "' does not exist");
   if (::access(dir.c_str(), W_OK) != 0) throw Error("output directory '" + dir.string() + "' is not writable");
@@ -147,67 +143,129 @@ void check_output_path(const std::string& output, const std::string& input, bool
                           fs::path(output).extension().string() + "'");
 }
 
-void write_image(const std::string& path, const Image& image, SampleFormat source_format, int alpha_channel) {
-  if (image.empty()) throw Error("cannot write '" + path + "': the image is empty");
-  auto out = OIIO::ImageOutput::create(path);
-  if (!out) throw Error("cannot write '" + path + "': no image format for extension '" +
-                        fs::path(path).extension().string() + "'");
-  OIIO::ImageSpec spec(image.width, image.height, image.channels, output_type(path, source_format, *out));
-  if (alpha_channel >= 0 && alpha_channel < image.channels) {
+namespace {
+
+OIIO::ImageSpec output_spec(const std::string& path, int width, int height, int channels, SampleFormat source_format,
+                            int alpha_channel, const OIIO::ImageOutput& out) {
+  OIIO::ImageSpec spec(width, height, channels, output_type(path, source_format, out));
+  if (alpha_channel >= 0 && alpha_channel < channels) {
     spec.alpha_channel = alpha_channel;
     spec.channelnames[alpha_channel].assign(1, 'A');
   }
   if (spec.format == OIIO::TypeDesc::FLOAT && lower_extension(path) == ".exr")
     spec.attribute("compression", "zip");
-
-  // Same directory as the target so the rename is atomic; same extension
-  // so any plugin that checks it is satisfied.
-  fs::path target(path);
-  fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
-  std::random_device rd;
-  std::string tmp_name = ".";
-  tmp_name += target.stem().string();
-  tmp_name += ".tmp" + std::to_string(rd() % 1000000);
-  tmp_name += target.extension().string();
-  const fs::path tmp = dir / tmp_name;
-  auto fail = [&](const std::string& why) {
-    std::error_code ec;
-    fs::remove(tmp, ec);
-    throw Error("cannot write '" + path + "': " + first_line(why));
-  };
-  const QuietLibraries quiet;
-  if (!out->open(tmp.string(), spec)) fail(out->geterror());
-  if (!out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data())) fail(out->geterror());
-  if (!out->close()) fail(out->geterror());
-  std::error_code ec;
-  fs::rename(tmp, target, ec);
-  if (ec) fail(ec.message());
+  return spec;
 }
 
-void write_file_atomically(const std::string& path, const std::string& content) {
-  fs::path target(path);
-  fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
-  std::random_device rd;
-  std::string tmp_name = ".";
-  tmp_name += target.filename().string();
-  tmp_name += ".tmp" + std::to_string(rd() % 1000000);
-  const fs::path tmp = dir / tmp_name;
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << content;
-    out.close();
-    if (!out) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw Error("cannot write '" + path + "'");
-    }
+// OIIO's writer goes through this proxy into a file of a StagedOutput: a
+// failed write is remembered there (and reported after close) instead of
+// being returned to a plugin that may ignore it (libpng) or exit() on it
+// (libjpeg).
+class StagedFileProxy final : public OIIO::Filesystem::IOProxy {
+ public:
+  StagedFileProxy(StagedOutput& stage, int file, const std::string& name)
+      : IOProxy(name, Write), stage_(stage), file_(file) {}
+  const char* proxytype() const override { return "ddtscale-staged"; }
+  void close() override { m_mode = Closed; }  // the StagedOutput syncs and closes
+  bool seek(int64_t offset) override {
+    m_pos = offset;
+    return offset >= 0;
   }
-  std::error_code ec;
-  fs::rename(tmp, target, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw Error("cannot write '" + path + "': " + ec.message());
+  size_t read(void* buf, size_t size) override {
+    const size_t n = stage_.read_at(file_, buf, size, m_pos);
+    m_pos += static_cast<int64_t>(n);
+    return n;
   }
+  size_t write(const void* buf, size_t size) override {
+    stage_.write_at(file_, buf, size, m_pos);
+    m_pos += static_cast<int64_t>(size);
+    return size;
+  }
+  size_t pread(void* buf, size_t size, int64_t offset) override { return stage_.read_at(file_, buf, size, offset); }
+  size_t pwrite(const void* buf, size_t size, int64_t offset) override {
+    return stage_.write_at(file_, buf, size, offset);
+  }
+  size_t size() const override { return static_cast<size_t>(stage_.size(file_)); }
+
+ private:
+  StagedOutput& stage_;
+  int file_;
+};
+
+// Writers whose open() validates the size and that encode row by row, so a
+// trial open at the full size costs nothing (checked for OIIO 2.4: the
+// others, e.g. GIF, WebP, JPEG 2000, DPX, encode the whole image at close).
+bool trial_at_full_size(const std::string& format) {
+  for (const char* f : {"png", "tiff", "openexr", "bmp", "targa", "hdr", "pnm", "iff"})
+    if (format == f) return true;
+  return false;
+}
+
+}  // namespace
+
+void check_image_writable(const std::string& path, int width, int height, int channels, SampleFormat source_format,
+                          int alpha_channel) {
+  auto out = OIIO::ImageOutput::create(path);
+  if (!out) throw Error("cannot write '" + path + "': no image format for extension '" +
+                        fs::path(path).extension().string() + "'");
+  const std::string format = out->format_name();
+  const std::string refuse = "cannot write '" + path + "': ";
+  // libdpx aborts in open() for these (checked for OIIO 2.4).
+  if (format == "dpx" && channels != 1 && channels != 3 && channels != 4)
+    throw Error(refuse + "DPX stores 1, 3 or 4 channels, the image has " + std::to_string(channels));
+  if (format == "jpeg" && (width > 65500 || height > 65500))
+    throw Error(refuse + "JPEG stores at most 65500 pixels a side, the image is " + std::to_string(width) + "x" +
+                std::to_string(height));
+  if (!out->supports("ioproxy")) return;  // a trial would create a file; its errors come at the write
+  const bool full = trial_at_full_size(format);
+  const OIIO::ImageSpec spec = output_spec(path, full ? width : std::min(width, 16), full ? height : std::min(height, 16),
+                                           channels, source_format, alpha_channel, *out);
+  std::vector<unsigned char> scratch;
+  OIIO::Filesystem::IOVecOutput memory(scratch);
+  out->set_ioproxy(&memory);
+  const QuietLibraries quiet;
+  if (!out->open(fs::path(path).filename().string(), spec)) throw Error(refuse + first_line(out->geterror()));
+  out.reset();  // close: a few bytes of header into `scratch`
+}
+
+void write_image(const std::string& path, const Image& image, SampleFormat source_format, int alpha_channel) {
+  if (image.empty()) throw Error("cannot write '" + path + "': the image is empty");
+  check_image_writable(path, image.width, image.height, image.channels, source_format, alpha_channel);
+  auto out = OIIO::ImageOutput::create(path);
+  if (!out) throw Error("cannot write '" + path + "': no image format for extension '" +
+                        fs::path(path).extension().string() + "'");
+  const OIIO::ImageSpec spec =
+      output_spec(path, image.width, image.height, image.channels, source_format, alpha_channel, *out);
+
+  StagedOutput stage(path);
+  const std::string name = stage.target().filename().string();
+  auto fail = [&](const std::string& why) { throw Error("cannot write '" + path + "': " + first_line(why)); };
+  const QuietLibraries quiet;
+  if (out->supports("ioproxy")) {
+    const int file = stage.create(name);
+    StagedFileProxy proxy(stage, file, name);
+    out->set_ioproxy(&proxy);
+    if (!out->open(name, spec)) fail(out->geterror());
+    if (!out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data())) fail(out->geterror());
+    if (!out->close()) fail(out->geterror());
+    out.reset();
+    stage.finish(file);  // throws with the first write error (ENOSPC, EFBIG, EIO)
+  } else {
+    // The plugin opens the path itself (in the private directory): read the
+    // file back in full, since its write errors may go unseen.
+    const std::string staged = stage.stage_path(name).string();
+    if (!out->open(staged, spec)) fail(out->geterror());
+    if (!out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data())) fail(out->geterror());
+    if (!out->close()) fail(out->geterror());
+    out.reset();
+    stage.finish(stage.adopt(name));
+    auto in = OIIO::ImageInput::open(staged);
+    std::vector<float> check(image.pixels.size());
+    if (!in || in->spec().width != image.width || in->spec().height != image.height ||
+        !in->read_image(0, 0, 0, image.channels, OIIO::TypeDesc::FLOAT, check.data()))
+      fail("the written file does not read back: " + (in ? in->geterror() : OIIO::geterror()));
+  }
+  stage.commit({name});
 }
 
 std::vector<unsigned char> encode_png(const Image& image) {

@@ -2,11 +2,14 @@
 // Image file I/O through OpenImageIO.
 //
 // Every function throws ddt::Error with a one-line message on failure.
-// Writing is atomic: pixels go to a temporary file in the target directory
-// which is renamed over the target only after a complete write, so a failed
-// run never leaves a truncated file or destroys an existing one.
+// Writing is atomic and exclusive (safe_file.hpp): the encoded bytes go
+// through a checked writer into a private directory beside the target and
+// are renamed over it only after a complete, synced write, so a failed run
+// (full disk, signal) never leaves a truncated file or destroys an existing
+// one. Inputs must be regular files (devices and FIFOs are refused).
 
 #include "image.hpp"
+#include "safe_file.hpp"
 
 #include <OpenImageIO/imagebuf.h>
 
@@ -34,9 +37,8 @@ ImageFile read_image(const std::string& path);
 void write_image(const std::string& path, const Image& image,
                  SampleFormat source_format, int alpha_channel = -1);
 
-// Writes `content` to `path` atomically (temporary file beside it, then
-// rename), for text outputs such as SVG and CSV.
-void write_file_atomically(const std::string& path, const std::string& content);
+// write_file_atomically(path, bytes), for text outputs such as SVG and CSV,
+// is declared in safe_file.hpp.
 
 // Encodes 8-bit PNG bytes in memory (for embedding, e.g. in SVG).
 std::vector<unsigned char> encode_png(const Image& image);
@@ -48,6 +50,15 @@ OIIO::ImageBuf buf_from_image(const Image& image);
 // Throws if `output` cannot be written: same file as `input`, or a directory
 // that does not exist or is not writable, or (when image_format) an
 // extension no image format claims. Called before any long work.
+// A symlink output is checked at the file it points to (safe_file.hpp).
 void check_output_path(const std::string& output, const std::string& input, bool image_format = true);
+
+// Throws when `path`'s format cannot store a width x height image of
+// `channels` channels from `source_format` samples (channel count, type,
+// size), so the refusal comes before any long work and before a plugin
+// that aborts on it (DPX with 2 or 5 channels) is handed the image.
+// write_image calls it too.
+void check_image_writable(const std::string& path, int width, int height, int channels, SampleFormat source_format,
+                          int alpha_channel = -1);
 
 }  // namespace ddt

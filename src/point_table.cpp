@@ -16,6 +16,7 @@
 #include "point_table.hpp"
 
 #include "error.hpp"
+#include "safe_file.hpp"
 
 #include <csv.h>
 
@@ -152,6 +153,29 @@ void resolve_columns(const PointReadOptions& options, const std::vector<std::str
   }
 }
 
+// A line longer than this is no point record (a file with no newlines,
+// a sparse file): refused rather than read into memory without bound.
+constexpr std::size_t max_line_bytes = 1 << 20;
+
+// std::getline without its unbounded growth: false at the end of the
+// input, throws naming the line when it passes max_line_bytes.
+bool read_line(std::istream& in, std::string& line, long long line_no, const std::string& name) {
+  line.clear();
+  std::streambuf* buf = in.rdbuf();
+  for (;;) {
+    const int c = buf->sbumpc();
+    if (c == std::char_traits<char>::eof()) {
+      in.setstate(std::ios::eofbit);
+      return !line.empty();
+    }
+    if (c == '\n') return true;
+    if (line.size() >= max_line_bytes)
+      throw Error("cannot read '" + name + "', line " + std::to_string(line_no) + ": longer than " +
+                  std::to_string(max_line_bytes >> 20) + " MiB (not a text table?)");
+    line.push_back(static_cast<char>(c));
+  }
+}
+
 }  // namespace
 
 PointTable parse_point_table(std::istream& in, const std::string& name, const PointReadOptions& options) {
@@ -166,7 +190,7 @@ PointTable parse_point_table(std::istream& in, const std::string& name, const Po
   long long line_no = 0;
   const bool drop_nan = options.input_nodata && std::isnan(*options.input_nodata);
 
-  while (std::getline(in, line)) {
+  while (read_line(in, line, line_no + 1, name)) {
     ++line_no;
     auto where = [&] { return "cannot read '" + name + "', line " + std::to_string(line_no) + ": "; };
     std::string_view text(line);
@@ -253,9 +277,7 @@ PointTable parse_point_table(std::istream& in, const std::string& name, const Po
 }
 
 PointTable read_point_table(const std::string& path, const PointReadOptions& options) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw Error("cannot read '" + path + "': no such file");
-  if (std::filesystem::is_directory(path, ec)) throw Error("cannot read '" + path + "': it is a directory");
+  check_regular_file(path);  // a FIFO would block the open, a device never end
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error("cannot read '" + path + "': permission denied or unreadable");
   return parse_point_table(in, path, options);

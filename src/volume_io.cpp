@@ -1,11 +1,13 @@
 #include "volume_io.hpp"
 
 #include "error.hpp"
+#include "safe_file.hpp"
 
 #include <teem/nrrd.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <limits>
@@ -18,8 +20,9 @@ namespace fs = std::filesystem;
 namespace ddt {
 
 struct VolumeHeader {
-  Nrrd* nrrd = nullptr;  // sizes and metadata; data freed
-  unsigned axis0 = 0;    // index of the x axis (1 when a size-1 axis leads)
+  Nrrd* nrrd = nullptr;        // sizes and metadata; data freed
+  unsigned axis0 = 0;          // index of the x axis (1 when a size-1 axis leads)
+  std::vector<FileId> sources;  // the header and its data files: never replaced by an output
   ~VolumeHeader() {
     if (nrrd) nrrdNuke(nrrd);
   }
@@ -89,6 +92,69 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
+// "%d", "%03d", ...: the one conversion a data file format may hold (the
+// string goes to snprintf, so nothing else is let through).
+bool single_int_conversion(const std::string& format) {
+  int conversions = 0;
+  for (std::size_t i = 0; i < format.size(); ++i) {
+    if (format[i] != '%') continue;
+    std::size_t j = i + 1;
+    while (j < format.size() && std::isdigit(static_cast<unsigned char>(format[j]))) ++j;
+    if (j >= format.size() || format[j] != 'd') return false;
+    ++conversions;
+    i = j;
+  }
+  return conversions == 1;
+}
+
+// The files a NRRD header names as its data (empty when the data is
+// attached), each as a path usable from here. Reads the header only.
+// Throws when a name leaves the header's directory and !any_data_path.
+std::vector<std::string> data_files_of(const std::string& path, bool any_data_path) {
+  Nrrd* nrrd = nrrdNew();
+  NrrdIoState* nio = nrrdIoStateNew();
+  nio->skipData = AIR_TRUE;
+  struct Owner {
+    Nrrd* n;
+    NrrdIoState* io;
+    ~Owner() {
+      nrrdNuke(n);
+      nrrdIoStateNix(io);
+    }
+  } owner{nrrd, nio};
+  if (nrrdLoad(nrrd, path.c_str(), nio)) throw Error("cannot read '" + path + "': " + teem_error());
+  std::vector<std::string> names;
+  if (nio->dataFNFormat) {
+    const std::string format = nio->dataFNFormat;
+    if (!single_int_conversion(format))
+      throw Error("cannot read '" + path + "': unsupported data file pattern '" + format + "'");
+    const long long step = nio->dataFNStep;
+    if (step == 0) throw Error("cannot read '" + path + "': data file pattern with step 0");
+    for (long long i = nio->dataFNMin; step > 0 ? i <= nio->dataFNMax : i >= nio->dataFNMax; i += step) {
+      if (names.size() >= 100000) throw Error("cannot read '" + path + "': too many data files");
+      char name[4096];
+      std::snprintf(name, sizeof name, format.c_str(), static_cast<int>(i));
+      names.push_back(name);
+    }
+  } else {
+    for (unsigned i = 0; i < nio->dataFNArr->len; ++i) names.push_back(nio->dataFN[i]);
+  }
+  const fs::path dir = fs::path(path).parent_path();
+  std::vector<std::string> files;
+  for (const std::string& name : names) {
+    if (name == "-") throw Error("cannot read '" + path + "': data on standard input is not supported");
+    const fs::path p(name);
+    bool leaves = p.is_absolute();
+    for (const auto& part : p)
+      if (part == "..") leaves = true;
+    if (leaves && !any_data_path)
+      throw Error("cannot read '" + path + "': its data file '" + name +
+                  "' is outside the header's directory (absolute or '..'; allow with --any-data-file)");
+    files.push_back((p.is_absolute() ? p : dir / p).string());
+  }
+  return files;
+}
+
 }  // namespace
 
 const char* sample_type_name(VolumeSampleType type) { return type_info(type).name; }
@@ -126,11 +192,21 @@ bool is_volume_path(const std::string& path) {
   return ext == ".nrrd" || ext == ".nhdr";
 }
 
-VolumeFile read_volume(const std::string& path) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw Error("cannot read '" + path + "': no such file");
-  if (fs::is_directory(path, ec)) throw Error("cannot read '" + path + "': it is a directory");
+std::vector<std::string> volume_files(const std::string& path, const VolumeReadOptions& options) {
+  check_regular_file(path);
+  std::vector<std::string> files = {path};
+  for (const std::string& data : data_files_of(path, options.any_data_path)) {
+    check_regular_file(data);  // not /dev/zero, not a FIFO
+    files.push_back(data);
+  }
+  return files;
+}
+
+VolumeFile read_volume(const std::string& path, const VolumeReadOptions& options) {
+  const std::vector<std::string> files = volume_files(path, options);
   auto header = std::make_shared<VolumeHeader>();
+  for (const std::string& f : files)
+    if (const auto id = file_id(f)) header->sources.push_back(*id);
   header->nrrd = nrrdNew();
   Nrrd* nin = header->nrrd;
   NrrdIoState* nio = nrrdIoStateNew();
@@ -181,17 +257,31 @@ VolumeFile read_volume(const std::string& path) {
   return file;
 }
 
-void check_volume_output_path(const std::string& output, const std::string& input) {
+void check_volume_output_path(const std::string& output, const std::string& input, const VolumeReadOptions& options) {
   std::error_code ec;
   if (output.empty()) throw Error("no output file given");
   if (!is_volume_path(output))
     throw Error("cannot write '" + output + "': a volume is written as .nrrd or .nhdr");
-  if (!input.empty() && fs::exists(output, ec) && fs::equivalent(output, input, ec))
-    throw Error("output '" + output + "' is the input file; refusing to overwrite it");
-  if (!input.empty() && fs::weakly_canonical(output, ec) == fs::weakly_canonical(input, ec))
-    throw Error("output '" + output + "' is the input file; refusing to overwrite it");
-  if (fs::is_directory(output, ec)) throw Error("output '" + output + "' is a directory");
-  fs::path dir = fs::path(output).parent_path();
+  const fs::path target = resolve_output_link(output);
+  if (!input.empty()) {
+    // Every file written (the header and, for .nhdr, a data file named
+    // after it for any encoding) against every file read, by identity.
+    const std::vector<std::string> inputs = volume_files(input, options);
+    check_not_an_input(output, inputs);
+    if (fs::weakly_canonical(output, ec) == fs::weakly_canonical(input, ec))
+      throw Error("output '" + output + "' is the input file; refusing to overwrite it");
+    if (lower_extension(output) == ".nhdr")
+      for (const auto& e : encodings()) {
+        const fs::path data = target.parent_path() / (target.stem().string() + "." + e.teem->suffix);
+        const auto id = file_id(data.string());
+        for (const std::string& in : inputs)
+          if (id && id == file_id(in))
+            throw Error("output '" + output + "' would replace '" + data.string() +
+                        "', a file the input is read from; refusing to overwrite it");
+      }
+  }
+  if (fs::is_directory(target, ec)) throw Error("output '" + output + "' is a directory");
+  fs::path dir = target.parent_path();
   if (dir.empty()) dir = ".";
   if (!fs::is_directory(dir, ec)) throw Error("output directory '" + dir.string() + "' does not exist");
   if (::access(dir.c_str(), W_OK) != 0) throw Error("output directory '" + dir.string() + "' is not writable");
@@ -249,39 +339,54 @@ void write_volume(const std::string& path, const Volume& volume, VolumeSampleTyp
   }
   if (!comment.empty()) nrrdCommentAdd(nout, comment.c_str());
 
-  // Write into a fresh directory beside the target under the final names
-  // (a detached header names its data file relatively), then rename.
-  const fs::path target(path);
-  const fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
-  std::string pattern = (dir / ".ddtscale-XXXXXX").string();
-  if (!mkdtemp(pattern.data())) throw Error("cannot write '" + path + "': cannot create a temporary directory");
-  const fs::path tmp_dir(pattern);
-  auto cleanup = [&] {
-    std::error_code ec;
-    fs::remove_all(tmp_dir, ec);
-  };
+  // Teem writes through FILE*s that land in a StagedOutput (safe_file.hpp):
+  // every write error is seen, and nothing of Teem's file handling runs
+  // (its nrrdSave frees the data file name twice when a detached write
+  // fails). A .nhdr is two files: the data (encoded by Teem's encoding),
+  // then the header naming it.
+  StagedOutput stage(path);
+  const std::string name = stage.target().filename().string();
   NrrdIoState* nio = nrrdIoStateNew();
+  struct IoOwner {
+    NrrdIoState* io;
+    ~IoOwner() { nrrdIoStateNix(io); }
+  } io_owner{nio};
   for (const auto& e : encodings())
     if (e.encoding == encoding) nio->encoding = e.teem;
-  const int save_failed = nrrdSave((tmp_dir / target.filename()).string().c_str(), nout, nio);
-  nrrdIoStateNix(nio);
-  if (save_failed) {
-    const std::string why = teem_error();
-    cleanup();
-    throw Error("cannot write '" + path + "': " + why);
+  nio->format = nrrdFormatNRRD;
+  std::vector<std::string> order;
+  auto write_through = [&](const std::string& file_name, auto&& body) {
+    const int file = stage.create(file_name);
+    struct Target {
+      StagedOutput* stage;
+      int file;
+    } target{&stage, file};
+    cookie_io_functions_t io{};
+    io.write = [](void* cookie, const char* data, size_t size) -> ssize_t {
+      auto* t = static_cast<Target*>(cookie);
+      return static_cast<ssize_t>(t->stage->write(t->file, data, size));
+    };
+    std::FILE* f = ::fopencookie(&target, "w", io);
+    if (!f) throw Error("cannot write '" + path + "': out of memory");
+    const bool failed = body(f);
+    const bool flushed = std::fflush(f) == 0 && !std::ferror(f);
+    std::fclose(f);
+    if (failed || !flushed) throw Error("cannot write '" + path + "': " + teem_error());
+    stage.finish(file);  // throws with the first write error
+    order.push_back(file_name);
+  };
+  if (lower_extension(path) == ".nhdr") {
+    const std::string data_name = stage.target().stem().string() + "." + nio->encoding->suffix;
+    write_through(data_name, [&](std::FILE* f) {
+      return nio->encoding->write(f, nout->data, nrrdElementNumber(nout), nout, nio) != 0;
+    });
+    nio->detachedHeader = AIR_TRUE;
+    nio->skipData = AIR_TRUE;
+    const unsigned slot = airArrayLenIncr(nio->dataFNArr, 1);
+    nio->dataFN[slot] = airStrdup(data_name.c_str());
   }
-  std::vector<fs::path> written;
-  std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(tmp_dir, ec)) written.push_back(entry.path());
-  std::stable_partition(written.begin(), written.end(), [&](const fs::path& p) { return p.filename() != target.filename(); });
-  for (const fs::path& p : written) {
-    fs::rename(p, dir / p.filename(), ec);
-    if (ec) {
-      cleanup();
-      throw Error("cannot write '" + path + "': " + ec.message());
-    }
-  }
-  cleanup();
+  write_through(name, [&](std::FILE* f) { return nrrdWrite(f, nout, nio) != 0; });
+  stage.commit(order, like ? like->sources : std::vector<FileId>{});
 }
 
 }  // namespace ddt

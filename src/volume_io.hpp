@@ -13,10 +13,14 @@
 //   - A volume has 3 axes; a NRRD with 2 axes is read as one slice (nz = 1),
 //     one with 4 axes as a volume if its first axis has size 1. Other
 //     multi-component data (RGB, tensors) is refused.
-//   - Writing is atomic: everything is written into a temporary directory
-//     beside the target and renamed into place only after a complete
+//   - Writing is atomic and exclusive (safe_file.hpp): everything is
+//     written into a private directory beside the target, every write
+//     error seen, and renamed into place only after a complete, synced
 //     write (data file first, then the header), so a failed run never
-//     leaves a truncated file or destroys an existing one.
+//     leaves a truncated file or destroys an existing one. A file the
+//     `like` volume was read from (header or data file) is never replaced.
+//     A .nhdr output's data file is named <stem>.<suffix of the encoding>
+//     (raw, raw.gz, raw.bz2, ascii, hex) beside it.
 //
 // Geometry: the input's header (space, space directions, origin, spacing,
 // units, labels, key/value pairs, comments) is kept and written with the
@@ -33,6 +37,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace ddt {
 
@@ -60,8 +65,21 @@ struct VolumeFile {
 // (case-insensitive).
 bool is_volume_path(const std::string& path);
 
-// Reads a NRRD file.
-VolumeFile read_volume(const std::string& path);
+struct VolumeReadOptions {
+  // A detached header may name its data file by any path; by default only
+  // names inside the header's directory are read (relative, no '..'), so a
+  // header from elsewhere cannot make us read, then write out, any file
+  // (`data file: /etc/passwd`).
+  bool any_data_path = false;
+};
+
+// Reads a NRRD file. The header and every data file it names must be
+// regular files (a device or FIFO is refused before it is opened).
+VolumeFile read_volume(const std::string& path, const VolumeReadOptions& options = {});
+
+// The files reading `path` opens: the header, then its data files (paths
+// usable from here). Reads the header only; throws as read_volume does.
+std::vector<std::string> volume_files(const std::string& path, const VolumeReadOptions& options = {});
 
 // Writes `volume` to `path` (.nrrd or .nhdr) as `type` with `encoding`.
 // like: the header of the volume it was made from (may be null); its
@@ -70,9 +88,11 @@ VolumeFile read_volume(const std::string& path);
 void write_volume(const std::string& path, const Volume& volume, VolumeSampleType type, VolumeEncoding encoding,
                   const VolumeHeader* like = nullptr, const std::string& comment = {});
 
-// Throws if `output` cannot be written as a volume: same file as `input`,
-// not .nrrd/.nhdr, or a directory that does not exist or is not writable.
-// Called before any long work.
-void check_volume_output_path(const std::string& output, const std::string& input);
+// Throws if `output` cannot be written as a volume: it or the data file a
+// .nhdr output would write is one of the files `input` is read from (by
+// identity: header and data files), not .nrrd/.nhdr, or a directory that
+// does not exist or is not writable. Called before any long work.
+void check_volume_output_path(const std::string& output, const std::string& input,
+                              const VolumeReadOptions& options = {});
 
 }  // namespace ddt
