@@ -5,6 +5,8 @@
 #include "mesh.hpp"
 
 #include <algorithm>
+#include <cstdlib>
+#include <string>
 #include <map>
 #include <utility>
 #include <array>
@@ -13,6 +15,14 @@
 #include <vector>
 
 namespace ddt::test {
+
+// The benchmark data (Set5, Set14): $DDTSCALE_DATASETS if set, else the
+// folder CMake was told (-DDDTSCALE_DATASETS_DIR, default ../shared/datasets
+// beside the checkout). A clone without it skips the tests that need it.
+inline std::string datasets_dir() {
+  const char* env = std::getenv("DDTSCALE_DATASETS");
+  return env && *env ? std::string(env) : std::string(DDTSCALE_DATASETS_DIR);
+}
 
 inline std::vector<Point2> grid_points(int w, int h) {
   std::vector<Point2> p;
