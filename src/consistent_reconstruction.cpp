@@ -2,7 +2,6 @@
 
 #include "error.hpp"
 #include "footprint_operator.hpp"
-#include "rasterizer.hpp"
 
 #include <tbb/parallel_for.h>
 
