@@ -8,6 +8,7 @@
 #include "matlab_resize.hpp"
 #include "metrics.hpp"
 #include "peer_resize.hpp"
+#include "safe_file.hpp"
 #include "synthetic_scenes.hpp"
 
 #include <algorithm>
@@ -18,6 +19,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <sstream>
 #include <system_error>
 
 namespace fs = std::filesystem;
@@ -359,42 +361,21 @@ std::vector<EvalEdgeSummary> edge_summary_by_method_and_scale(const std::vector<
 }
 
 void write_eval_csv(const std::string& path, const std::vector<EvalRow>& rows, bool synthetic_columns) {
-  const fs::path target(path);
   if (path.empty()) throw Error("no CSV file given");
-  std::error_code ec;
-  if (fs::is_directory(target, ec)) throw Error("cannot write '" + path + "': it is a directory");
-  const fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
-  if (!fs::is_directory(dir, ec)) throw Error("cannot write '" + path + "': no directory '" + dir.string() + "'");
-  // Same directory, so the rename is atomic and a failed run leaves any old file intact.
-  std::random_device rd;
-  std::string tmp_name = ".";  // built by appending: GCC 12 misfires -Wrestrict on "." + string
-  tmp_name += target.filename().string();
-  tmp_name += ".tmp" + std::to_string(rd() % 1000000);
-  const fs::path tmp = dir / tmp_name;
-  auto fail = [&](const std::string& why) {
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-    throw Error("cannot write '" + path + "': " + why);
-  };
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) fail("cannot create a file in '" + dir.string() + "'");
-    out << "image,scale,method,psnr,ssim,seconds";
-    if (synthetic_columns) out << ",halo,rise_width,wobble,edge_offset,overshoot";
+  std::ostringstream out;
+  out << "image,scale,method,psnr,ssim,seconds";
+  if (synthetic_columns) out << ",halo,rise_width,wobble,edge_offset,overshoot";
+  out << '\n';
+  for (const auto& r : rows) {
+    out << csv_field(r.image) << ',' << r.scale << ',' << csv_field(r.method) << ',' << number(r.psnr) << ','
+        << number(r.ssim) << ',' << number(r.seconds);
+    if (synthetic_columns)
+      out << ',' << number(r.halo) << ',' << number(r.rise_width) << ',' << number(r.wobble) << ','
+          << number(r.edge_offset) << ',' << number(r.overshoot);
     out << '\n';
-    for (const auto& r : rows) {
-      out << csv_field(r.image) << ',' << r.scale << ',' << csv_field(r.method) << ',' << number(r.psnr) << ','
-          << number(r.ssim) << ',' << number(r.seconds);
-      if (synthetic_columns)
-        out << ',' << number(r.halo) << ',' << number(r.rise_width) << ',' << number(r.wobble) << ','
-            << number(r.edge_offset) << ',' << number(r.overshoot);
-      out << '\n';
-    }
-    out.flush();
-    if (!out) fail("write error");
   }
-  fs::rename(tmp, target, ec);
-  if (ec) fail(ec.message());
+  // Staged in a private directory beside the target, checked, renamed (safe_file.hpp).
+  write_file_atomically(path, out.str());
 }
 
 }  // namespace ddt
