@@ -229,7 +229,12 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
     // values, cubic gradients, the band's own copy of its samples.
     const double per_pixel = 16 + 48 + 6 + 48 + (drive.identity ? 0 : 4.0 * drive.K) +
                              (options.render == "cubic" ? 8.0 * C : 0) + 4.0 * C;
-    const double fixed = 4.0 * C * (static_cast<double>(W) * H + static_cast<double>(out_width) * out_height);
+    double fixed = 4.0 * C * (static_cast<double>(W) * H + static_cast<double>(out_width) * out_height);
+    // The consistent reconstruction, untiled: two triangle owners per output
+    // pixel; per input pixel two operators of about 8 nonzeros (8 bytes
+    // each, twice that while assembled) and about ten double vectors.
+    if (options.model.kind != AcquisitionModel::Kind::point)
+      fixed += 8.0 * out_width * out_height + (256.0 + 80.0 * C) * W * H;
     const double budget = options.max_memory > 0 ? double(options.max_memory) : 0.5 * double(physical_memory());
     const double whole = fixed + per_pixel * W * H;
     if (whole > budget) {

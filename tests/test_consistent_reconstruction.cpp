@@ -241,3 +241,19 @@ TEST_CASE("upscale: the default's edges rise faster than --model point's, withou
   CHECK(consistent.rise_width < 0.6);
   CHECK(consistent.overshoot < 0.01);
 }
+
+TEST_CASE("upscale: in tiles the default falls back to the point model and says so") {
+  Image in = noise_image(40, 600, 1, 21);
+  UpscaleOptions options;
+  options.region_rows = 16;
+  options.max_memory = 1;  // nothing fits: bands
+  UpscaleStats tiled;
+  const Image a = upscale(in, 80, 1200, options, &tiled);
+  CHECK(tiled.tiles > 1);
+  CHECK(tiled.consistency_skipped);
+  options.model.kind = AcquisitionModel::Kind::point;
+  UpscaleStats point;
+  const Image b = upscale(in, 80, 1200, options, &point);
+  CHECK_FALSE(point.consistency_skipped);
+  CHECK(max_difference(a, b) == 0);
+}
