@@ -134,14 +134,19 @@ AxisWeights axis_weights(const AcquisitionModel& model, int n, int m) {
   return w;
 }
 
+std::vector<std::vector<std::pair<int, double>>> by_input_pixel(const AxisWeights& w, int n) {
+  std::vector<std::vector<std::pair<int, double>>> by(n);
+  const int m = static_cast<int>(w.first.size()) - 1;
+  for (int X = 0; X < m; ++X)
+    for (int k = w.first[X]; k < w.first[X + 1]; ++k) by[w.pixel[k]].push_back({X, w.weight[k]});
+  return by;
+}
+
 Image apply_acquisition(const AcquisitionModel& model, const Image& out, int in_width, int in_height) {
   const AxisWeights wx = axis_weights(model, in_width, out.width);
   const AxisWeights wy = axis_weights(model, in_height, out.height);
   const int C = out.channels;
-  // Transposed column weights: for each input row jy, its output rows.
-  std::vector<std::vector<std::pair<int, double>>> by_row(in_height);
-  for (int Y = 0; Y < out.height; ++Y)
-    for (int k = wy.first[Y]; k < wy.first[Y + 1]; ++k) by_row[wy.pixel[k]].push_back({Y, wy.weight[k]});
+  const auto by_row = by_input_pixel(wy, in_height);  // input row -> (output row, weight)
   // Each input row from its output rows, one row of sums at a time (memory
   // of one input row per thread, not of an intermediate image).
   Image in(in_width, in_height, C);

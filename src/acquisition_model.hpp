@@ -24,6 +24,7 @@
 #include "image.hpp"
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace ddt {
@@ -50,6 +51,10 @@ struct AxisWeights {
 
 // Inputs: model (not point), n input pixels >= 1, m output samples >= 1.
 AxisWeights axis_weights(const AcquisitionModel& model, int n, int m);
+
+// The same weights by input pixel: for each of the n pixels, its
+// (output sample, weight) pairs in output order.
+std::vector<std::vector<std::pair<int, double>>> by_input_pixel(const AxisWeights& w, int n);
 
 // The input the model predicts from `out`: in_width x in_height x
 // out.channels, pixel j = sum over X, Y of wy(j_y, Y) wx(j_x, X) out(X, Y).

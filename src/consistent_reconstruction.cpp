@@ -33,6 +33,14 @@ double max_abs(const std::vector<double>& a) {
   return m;
 }
 
+// src - acquire(out): what the output still fails to reproduce.
+std::vector<double> residual_of(const AcquisitionModel& model, const Image& out, const Image& src) {
+  const Image predicted = apply_acquisition(model, out, src.width, src.height);
+  std::vector<double> r(src.pixels.size());
+  for (std::size_t i = 0; i < r.size(); ++i) r[i] = double(src.pixels[i]) - predicted.pixels[i];
+  return r;
+}
+
 double norm2(const std::vector<double>& a) {
   double m = 0;
   for (double v : a) m += v * v;
@@ -241,9 +249,7 @@ void make_consistent(Image& out, const Mesh2& mesh, const Mesh2& grid_mesh, cons
   local.seconds_operator = seconds_since(t0);
 
   t0 = std::chrono::steady_clock::now();
-  const Image predicted = apply_acquisition(options.model, out, W, H);
-  std::vector<double> residual(src.pixels.size());
-  for (std::size_t i = 0; i < residual.size(); ++i) residual[i] = double(src.pixels[i]) - predicted.pixels[i];
+  const std::vector<double> residual = residual_of(options.model, out, src);
   local.residual_before = max_abs(residual);
   std::vector<double> delta_mesh, delta_grid;
   const std::vector<double> rest =
@@ -268,9 +274,7 @@ void make_consistent(Image& out, const Mesh2& mesh, const Mesh2& grid_mesh, cons
       if (stats) *stats = local;
       return;
     }
-    const Image again = apply_acquisition(options.model, out, W, H);
-    std::vector<double> rest_after(src.pixels.size());
-    for (std::size_t i = 0; i < rest_after.size(); ++i) rest_after[i] = double(src.pixels[i]) - again.pixels[i];
+    const std::vector<double> rest_after = residual_of(options.model, out, src);
     if (max_abs(rest_after) > 10 * options.tolerance) {
       std::vector<double> delta;
       double residual = 0;

@@ -99,6 +99,15 @@ struct Scratch {
   std::vector<int> count;
 };
 
+// The barycentric coordinates of p in triangle t.
+std::array<double, 3> barycentric(const Mesh2& mesh, index_t t, const Point2& p) {
+  const index_t* v = &mesh.tri[3 * t];
+  const Point2 &a = mesh.points[v[0]], &b = mesh.points[v[1]], &c = mesh.points[v[2]];
+  const double area = signed_area2(a, b, c);
+  const double l0 = signed_area2(p, b, c) / area, l1 = signed_area2(a, p, c) / area;
+  return {l0, l1, 1 - l0 - l1};
+}
+
 // The rim: the clamped centre, linear between grid neighbours along the
 // hull's unit edges. Returns the number of entries (1 or 2).
 int rim_weights(int W, int H, double cx, double cy, std::array<Entry, 2>& e) {
@@ -131,10 +140,7 @@ void add_linear_surface(Image& out, const Mesh2& mesh, const std::vector<index_t
       const index_t t = owners[static_cast<std::size_t>(Y) * out.width + X];
       if (t >= 0) {
         const index_t* v = &mesh.tri[3 * t];
-        const Point2 &a = mesh.points[v[0]], &b = mesh.points[v[1]], &c = mesh.points[v[2]];
-        const double area = signed_area2(a, b, c);
-        const Point2 p{cx, cy};
-        const double l0 = signed_area2(p, b, c) / area, l1 = signed_area2(a, p, c) / area, l2 = 1 - l0 - l1;
+        const auto [l0, l1, l2] = barycentric(mesh, t, Point2{cx, cy});
         const double *z0 = &values[std::size_t(v[0]) * C], *z1 = &values[std::size_t(v[1]) * C],
                      *z2 = &values[std::size_t(v[2]) * C];
         for (int ch = 0; ch < C; ++ch) o[ch] += static_cast<float>(l0 * z0[ch] + l1 * z1[ch] + l2 * z2[ch]);
@@ -176,9 +182,7 @@ SparseRows footprint_operator(const Mesh2& mesh, const std::vector<index_t>& own
   const AxisWeights wx = axis_weights(model, W, out_w), wy = axis_weights(model, H, out_h);
   const double sx = static_cast<double>(out_w) / W, sy = static_cast<double>(out_h) / H;
 
-  std::vector<std::vector<std::pair<int, double>>> by_row(H);  // input row -> (output row, weight)
-  for (int Y = 0; Y < out_h; ++Y)
-    for (int k = wy.first[Y]; k < wy.first[Y + 1]; ++k) by_row[wy.pixel[k]].push_back({Y, wy.weight[k]});
+  const auto by_row = by_input_pixel(wy, H);  // input row -> (output row, weight)
 
   tbb::enumerable_thread_specific<Scratch> scratch_of;
   // One input row of A at a time: (footprint x, vertex, weight) triplets,
@@ -201,13 +205,10 @@ SparseRows footprint_operator(const Mesh2& mesh, const std::vector<index_t>& own
     auto flush = [&](Run& r) {
       if (r.t >= 0 && r.w != 0) {
         const index_t* v = &mesh.tri[3 * r.t];
-        const Point2 &a = mesh.points[v[0]], &b = mesh.points[v[1]], &c = mesh.points[v[2]];
-        const double area = signed_area2(a, b, c);
-        const Point2 p{r.wcx / r.w, cy};
-        const double l0 = signed_area2(p, b, c) / area, l1 = signed_area2(a, p, c) / area;
+        const auto [l0, l1, l2] = barycentric(mesh, r.t, Point2{r.wcx / r.w, cy});
         trip.push_back({r.x, v[0], r.w * l0});
         trip.push_back({r.x, v[1], r.w * l1});
-        trip.push_back({r.x, v[2], r.w * (1 - l0 - l1)});
+        trip.push_back({r.x, v[2], r.w * l2});
       }
       r = Run{};
     };

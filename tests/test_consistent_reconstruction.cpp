@@ -36,6 +36,17 @@ Image noise_image(int w, int h, int c, unsigned seed) {
   return img;
 }
 
+// render_mesh's linear render of v (C channels) at out_width x out_height.
+Image linear_render(const Mesh2& mesh, const std::vector<float>& v, int C, const Image& img, int out_width,
+                    int out_height) {
+  RenderGrid grid;
+  grid.width = out_width;
+  grid.height = out_height;
+  grid.scale_x = double(out_width) / img.width;
+  grid.scale_y = double(out_height) / img.height;
+  return render_mesh(mesh, v, C, grid);
+}
+
 double max_difference(const Image& a, const Image& b) {
   double m = 0;
   for (std::size_t i = 0; i < a.pixels.size(); ++i) m = std::max(m, std::abs(double(a.pixels[i]) - b.pixels[i]));
@@ -83,12 +94,7 @@ TEST_CASE("footprint_operator: A v equals the acquired linear render, integer an
       const AcquisitionModel model = parse_acquisition_model(name);
       const SparseRows A = footprint_operator(mesh, img.width, img.height, ow, oh, model);
       const std::vector<float> v = test::random_values(img.pixels.size(), 1, 9);
-      RenderGrid grid;
-      grid.width = ow;
-      grid.height = oh;
-      grid.scale_x = double(ow) / img.width;
-      grid.scale_y = double(oh) / img.height;
-      const Image rendered = render_mesh(mesh, v, 1, grid);
+      const Image rendered = linear_render(mesh, v, 1, img, ow, oh);
       const Image acquired = apply_acquisition(model, rendered, img.width, img.height);
       std::vector<double> x(v.begin(), v.end()), y;
       A.multiply(x, y, 1);
@@ -192,12 +198,7 @@ TEST_CASE("add_linear_surface: adds what render_mesh's linear render draws") {
   const Mesh2 mesh = optimized_grid_mesh(img);
   for (auto [ow, oh] : {std::pair{44, 32}, std::pair{29, 21}}) {
     const std::vector<float> v = test::random_values(img.pixels.size(), 1, 12);
-    RenderGrid grid;
-    grid.width = ow;
-    grid.height = oh;
-    grid.scale_x = double(ow) / img.width;
-    grid.scale_y = double(oh) / img.height;
-    const Image rendered = render_mesh(mesh, v, 2, grid);
+    const Image rendered = linear_render(mesh, v, 2, img, ow, oh);
     Image added(ow, oh, 2, 0.25f);
     add_linear_surface(added, mesh, pixel_owners(mesh, img.width, img.height, ow, oh), img.width, img.height,
                        std::vector<double>(v.begin(), v.end()));
