@@ -65,15 +65,17 @@ std::vector<index_t> pixel_owners(const Mesh2& mesh, int W, int H, int out_w, in
         }
       }
       if (xl > xr) continue;
-      int X0 = std::max(0, static_cast<int>(std::floor(xl * sx - 0.5)) - 1);
-      int X1 = std::min(out_w - 1, static_cast<int>(std::ceil(xr * sx - 0.5)) + 1);
-      auto inside = [&](int X) {
+      const int X0 = std::max(0, static_cast<int>(std::floor(xl * sx - 0.5)) - 1);
+      const int X1 = std::min(out_w - 1, static_cast<int>(std::ceil(xr * sx - 0.5)) + 1);
+      // The span's ends carry rounding far below `clear`: a centre further
+      // inside is the triangle's, one near an end is decided exactly.
+      const double clear = 1e-7 * (1 + std::abs(xl) + std::abs(xr));
+      for (int X = X0; X <= X1; ++X) {
         const double cx = (X + 0.5) / sx;
-        return cx > 0.5 && cx < W - 0.5 && owns(a, b, c, Point2{cx, cy});
-      };
-      while (X0 <= X1 && !inside(X0)) ++X0;
-      while (X1 >= X0 && !inside(X1)) --X1;
-      for (int X = X0; X <= X1; ++X) owner[static_cast<std::size_t>(Y) * out_w + X] = t;
+        if (!(cx > 0.5 && cx < W - 0.5) || cx < xl - clear || cx > xr + clear) continue;
+        if ((cx > xl + clear && cx < xr - clear) || owns(a, b, c, Point2{cx, cy}))
+          owner[static_cast<std::size_t>(Y) * out_w + X] = t;
+      }
     }
   });
   return owner;

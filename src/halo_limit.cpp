@@ -83,12 +83,18 @@ long long limit_halos(Image& out, const Image& src) {
     std::vector<float> o;
     for (int x = 0; x < src.width; ++x)
       for (int c = 0; c < src.channels; ++c) {
-        const auto [lo, hi] = halo_bounds(src, x, y, c, image_min[c], image_max[c]);
         o.clear();
         for (int Y = f.first_y[y]; Y < f.first_y[y + 1]; ++Y)
           for (int X = f.first_x[x]; X < f.first_x[x + 1]; ++X) o.push_back(out.at(X, Y, c));
         if (o.empty()) continue;
         const auto [omin, omax] = std::minmax_element(o.begin(), o.end());
+        // The bounds contain the 3x3 range: most footprints stay inside it.
+        float lo3 = src.at(x, y, c), hi3 = lo3;
+        for (int ny = std::max(0, y - 1); ny <= std::min(src.height - 1, y + 1); ++ny)
+          for (int nx = std::max(0, x - 1); nx <= std::min(src.width - 1, x + 1); ++nx)
+            lo3 = std::min(lo3, src.at(nx, ny, c)), hi3 = std::max(hi3, src.at(nx, ny, c));
+        if (*omin >= lo3 && *omax <= hi3) continue;
+        const auto [lo, hi] = halo_bounds(src, x, y, c, image_min[c], image_max[c]);
         if (*omin >= lo && *omax <= hi) continue;
         double mean = 0;
         for (float v : o) mean += v;
