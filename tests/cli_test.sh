@@ -52,6 +52,12 @@ done
 for model in gauss gauss: gauss:-1 gauss:abc Box area ""; do
   run_fail "malformed --model '$model'" "$work/in.png" "$work/o.png" --scale 2 --model "$model"
 done
+# Straight edges drawn as edges by default; --no-step-edges keeps the smooth reconstruction.
+"$bin" scene edge_30 "$work/edge.exr" --size 24x24 >/dev/null 2>&1 && ok || bad "scene edge_30"
+run_ok "step edges" "$work/edge.exr" "$work/edge_on.exr" --scale 6 --verbose
+grep -Eq " [1-9][0-9]* step-edge footprints" "$work/err.txt" && ok || bad "no step-edge footprints on edge_30"
+run_ok "no step edges" "$work/edge.exr" "$work/edge_off.exr" --scale 6 --no-step-edges --verbose
+grep -q " 0 step-edge footprints" "$work/err.txt" && ok || bad "--no-step-edges drew step edges"
 run_ok "cubic render, mc slopes" "$work/in.png" "$work/cub.png" --scale 2 --render cubic --slopes mc
 run_fail "unknown render" "$work/in.png" "$work/o.png" --scale 2 --render spline
 
