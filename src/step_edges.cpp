@@ -189,6 +189,20 @@ double misfit_5x5(const Image& src, int x, int y, const EdgeFit& fit) {
   return worst;
 }
 
+// The code value of a quantized input (1/255, 1/65535), 0 for one that is
+// not: every sample must sit on the code grid.
+double quantum_of(const Image& src) {
+  for (double levels : {255.0, 65535.0}) {
+    bool on_grid = true;
+    for (std::size_t i = 0; i < src.pixels.size() && on_grid; ++i) {
+      const double code = src.pixels[i] * levels;
+      on_grid = std::abs(code - std::round(code)) < 1e-3;
+    }
+    if (on_grid) return 1 / levels;
+  }
+  return 0;
+}
+
 }  // namespace
 
 long long render_step_edges(Image& out, const Image& src, const StepEdgeOptions& options) {
@@ -196,6 +210,14 @@ long long render_step_edges(Image& out, const Image& src, const StepEdgeOptions&
   if (W < 5 || H < 5 || C > max_channels) return 0;
   const FootprintPixels f = footprint_pixels(W, H, out.width, out.height);
   const double pw = static_cast<double>(W) / out.width, ph = static_cast<double>(H) / out.height;  // output pixel size
+  const double quantum = quantum_of(src);
+  double min_step = options.min_step_codes * quantum;
+  if (quantum == 0) {
+    const auto [lo, hi] = std::minmax_element(src.pixels.begin(), src.pixels.end());
+    min_step = options.min_step_share * (*hi - *lo);
+  }
+  if (!(min_step > 0)) return 0;  // a flat image
+  const double rounding = 0.5 * quantum;
   std::atomic<long long> drawn{0};
   tbb::parallel_for(2, H - 2, [&](int y) {
     Window w;
@@ -205,7 +227,7 @@ long long render_step_edges(Image& out, const Image& src, const StepEdgeOptions&
       // The channel with the largest step decides whether this is an edge
       // pixel at all: strictly between the levels around it.
       int main = -1;
-      double main_step = options.min_step, lo_main = 0, hi_main = 0;
+      double main_step = min_step, lo_main = 0, hi_main = 0;
       std::array<double, max_channels> lo{}, hi{};
       for (int k = 0; k < window; ++k) {
         const int px = x + k % 3 - 1, py = y + k / 3 - 1;
@@ -227,21 +249,22 @@ long long render_step_edges(Image& out, const Image& src, const StepEdgeOptions&
       // A straight line crosses at most 5 of the 3x3 pixels: the other 4 or
       // more sit on one of the two levels.
       int on_level = 0;
-      const double near = 2 * options.tolerance * main_step;
+      const double allowed = options.tolerance * main_step + rounding;  // misfit of a 3x3 pixel
+      const double near = 2 * allowed;
       for (int k = 0; k < window; ++k) {
         const double value = w.value[k * C + main];
         on_level += value <= lo_main + near || value >= hi_main - near;
       }
       if (on_level < 4) continue;
-      const EdgeFit fit = fit_edge(w, main, lo_main, hi_main, 10 * options.tolerance);
-      if (!(fit.misfit <= options.tolerance * main_step)) continue;
+      const EdgeFit fit = fit_edge(w, main, lo_main, hi_main, 10 * allowed / main_step);
+      if (!(fit.misfit <= allowed)) continue;
       bool levels_inside = true;  // no level beyond what the window shows
       for (int c = 0; c < C; ++c) {
-        const double slack = options.tolerance * main_step;
+        const double slack = allowed;
         levels_inside = levels_inside && std::min(fit.a[c], fit.b[c]) >= lo[c] - slack &&
                         std::max(fit.a[c], fit.b[c]) <= hi[c] + slack;
       }
-      if (!levels_inside || !(misfit_5x5(src, x, y, fit) <= options.reach_tolerance * main_step)) continue;
+      if (!levels_inside || !(misfit_5x5(src, x, y, fit) <= options.reach_tolerance * main_step + rounding)) continue;
       const double nx = std::cos(fit.angle), ny = std::sin(fit.angle);
       const double p = pw * std::abs(nx), q = ph * std::abs(ny);
       for (int c = 0; c < C; ++c) {

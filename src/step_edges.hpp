@@ -20,6 +20,9 @@
 // share; then Levenberg-Marquardt over (angle, offset) with the levels
 // solved by least squares for each trial line (variable projection).
 //
+// Samples quantized to 8 or 16 bits carry up to half a code value of
+// rounding, which the misfits allow for.
+//
 // Inputs:
 //   out   the output, out.width x out.height x C (changed in place)
 //   src   the input, width x height x C, the box model's acquisition of out
@@ -33,7 +36,12 @@ namespace ddt {
 
 struct StepEdgeOptions {
   double tolerance = 0.02;  // largest misfit of any of the 3x3 pixels, as a share of the step
-  double min_step = 0.04;   // smallest step (in sample units) worth drawing
+  // Smallest step worth drawing, in input code values where the input is
+  // quantized (8 or 16 bits: every sample a multiple of 1/255 or 1/65535;
+  // half a code value is then added to every misfit allowed), else as a
+  // share of the image's range.
+  double min_step_codes = 6;
+  double min_step_share = 1e-3;
   // Largest misfit of the fitted edge over the 5x5 pixels, as a share of
   // the step: loose enough for a curved edge (a circle of radius r strays
   // 3 / r pixels from its tangent there), tight enough to turn away a

@@ -139,3 +139,22 @@ TEST_CASE("upscale: unseen straight edges at x10 rise within 0.5 input pixels an
     CHECK(m.rise_width < off.rise_width);
   }
 }
+
+TEST_CASE("upscale: low-contrast straight edges quantized to 8 bits are drawn sharp too") {
+  // A step of 0.09 (23 code values): rounding to 8 bits errs by up to 5 %
+  // of it, which the fit allows for as half a code value.
+  for (double degrees : {8.0, 33.0, 61.0}) {
+    CAPTURE(degrees);
+    const Scene scene = straight_edge(degrees, 0.509, 0.488);
+    const int w = 40, s = 10;
+    Image lr = render_scene(scene, w, w);
+    for (float& v : lr.pixels) v = std::round((0.45f + (v - 0.15f) * (0.09f / 0.7f)) * 255) / 255;
+    const SceneStepEdge& e = *scene.step_edge;
+    const StepEdge edge{e.x * w * s, e.y * w * s, e.nx, e.ny, 0.45, 0.54};
+    const EdgeSharpness m = measure_edge_sharpness(upscale(lr, w * s, w * s), edge, s);
+    REQUIRE(m.profiles > 10);
+    MESSAGE("8-bit step 0.09 at " << degrees << " degrees, x10: rise " << m.rise_width << ", wobble " << m.wobble);
+    CHECK(m.rise_width <= 0.5);
+    CHECK(m.wobble <= 0.05);
+  }
+}
