@@ -9,6 +9,7 @@
 #include "test_support.hpp"
 
 #include <doctest/doctest.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
 #include <numbers>
@@ -157,4 +158,18 @@ TEST_CASE("upscale: low-contrast straight edges quantized to 8 bits are drawn sh
     CHECK(m.rise_width <= 0.5);
     CHECK(m.wobble <= 0.05);
   }
+}
+
+TEST_CASE("upscale: the default's output is the same on 1 and 2 threads") {
+  const Image lr = render_scene(find_scene("colour_regions"), 40, 40);
+  Image one, two;
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    one = upscale(lr, 280, 280);
+  }
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+    two = upscale(lr, 280, 280);
+  }
+  CHECK(one.pixels == two.pixels);
 }
