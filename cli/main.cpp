@@ -11,6 +11,7 @@
 #include "image_io.hpp"
 #include "image_mesh.hpp"
 #include "mesh_view.hpp"
+#include "output_size.hpp"
 #include "progress.hpp"
 #include "upscale.hpp"
 
@@ -40,7 +41,7 @@ struct Arguments {
   std::string cost_channel = "sum";
   bool no_optimize = false;
   double tolerance = 1e-9;
-  long long max_pixels = 1LL << 28;
+  long long max_pixels = ddt::default_max_pixels;
   bool verbose = false;
   bool quiet = false;
   int threads = 0;    // 0: all cores
@@ -61,25 +62,12 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 // Output size from --scale / --width / --height; throws ddt::Error.
 void output_size(const Arguments& args, int in_w, int in_h, int& out_w, int& out_h) {
-  if (args.scale_given && (args.width_given || args.height_given))
-    throw ddt::Error("give either --scale or --width/--height, not both");
-  if (args.scale_given) {
-    if (!(args.scale > 0) || !std::isfinite(args.scale)) throw ddt::Error("--scale must be a positive number");
-    const double w = std::round(in_w * args.scale), h = std::round(in_h * args.scale);
-    if (w > 2e9 || h > 2e9) throw ddt::Error("--scale gives an output larger than --max-pixels");
-    out_w = static_cast<int>(std::max(1.0, w));
-    out_h = static_cast<int>(std::max(1.0, h));
-  } else if (args.width_given || args.height_given) {
-    if ((args.width_given && args.width <= 0) || (args.height_given && args.height <= 0))
-      throw ddt::Error("--width and --height must be positive");
-    out_w = args.width > 0 ? args.width : static_cast<int>(std::max(1.0, std::round(double(in_w) * args.height / in_h)));
-    out_h = args.height > 0 ? args.height : static_cast<int>(std::max(1.0, std::round(double(in_h) * args.width / in_w)));
-  } else {
-    throw ddt::Error("give the magnification: --scale S, or --width W and/or --height H");
-  }
-  if (static_cast<long long>(out_w) * out_h > args.max_pixels)
-    throw ddt::Error("output " + std::to_string(out_w) + "x" + std::to_string(out_h) + " exceeds --max-pixels " +
-                     std::to_string(args.max_pixels));
+  ddt::SizeRequest request;
+  if (args.scale_given) request.scale = args.scale;
+  if (args.width_given) request.width = args.width;
+  if (args.height_given) request.height = args.height;
+  request.max_pixels = args.max_pixels;
+  ddt::output_size(request, in_w, in_h, out_w, out_h);
 }
 
 int run_upscale(int argc, char** argv) {
