@@ -138,6 +138,51 @@ py::array upscale(const py::array& array, const py::object& scale, const py::obj
   return array_from_image(out, in.dtype, in.planar);
 }
 
+py::tuple output_size(int in_width, int in_height, const py::object& scale, const py::object& size,
+                      const py::dict& kwargs) {
+  const ImageCall call = image_call(kwargs);
+  int out_w = 0, out_h = 0;
+  ddt::output_size(size_request(scale, size, kwargs, call.max_pixels), in_width, in_height, out_w, out_h);
+  return py::make_tuple(out_h, out_w);
+}
+
+// The command line's single-file run without its extras (--compare, --mesh,
+// progress): read, enlarge, write atomically, keeping the bit depth and alpha.
+// A file that cannot be read or written raises OSError.
+py::tuple upscale_file(const std::string& input, const std::string& output, const py::object& scale,
+                       const py::object& size, const py::dict& kwargs) {
+  ImageCall call = image_call(kwargs);
+  if (call.compare || call.mesh) throw ddt::Error("compare and mesh are not options of upscale_file");
+  const ddt::SizeRequest request = size_request(scale, size, kwargs, call.max_pixels);
+  call.options.log = stderr_log(call.verbose);
+  int out_w = 0, out_h = 0;
+  ddt::UpscaleStats stats;
+  {
+    py::gil_scoped_release release;
+    const auto limit = thread_limit(call.threads);
+    ddt::ImageFile file;
+    try {
+      ddt::check_output_path(output, input);
+      file = ddt::read_image(input);
+    } catch (const ddt::Error& e) {
+      throw std::system_error(std::make_error_code(std::errc::io_error), e.what());
+    }
+    ddt::output_size(request, file.image.width, file.image.height, out_w, out_h);
+    ddt::check_image_writable(output, out_w, out_h, file.image.channels, file.format, file.alpha_channel);
+    call.options.alpha_channel = file.alpha_channel;
+    const ddt::Image out = ddt::upscale(file.image, out_w, out_h, call.options, &stats);
+    try {
+      ddt::write_image(output, out, file.format, file.alpha_channel);
+    } catch (const ddt::Error& e) {
+      throw std::system_error(std::make_error_code(std::errc::io_error), e.what());
+    }
+  }
+  if (stats.consistency_skipped && !call.quiet)
+    warn(input + ": the image was processed in " + std::to_string(stats.tiles) + " tiles, where --model " +
+         call.model + " is not applied (plain interpolation, --model point)");
+  return py::make_tuple(out_h, out_w);
+}
+
 py::array upscale_rows(const py::array& rows, int top, int image_height, int first, int end, int out_width,
                        int out_height, const py::dict& kwargs) {
   ImageCall call = image_call(kwargs);
@@ -266,6 +311,10 @@ PYBIND11_MODULE(_ddtscale, m) {
   m.def("volume_defaults", &volume_defaults);
   m.def("grid_defaults", &grid_defaults);
   m.def("upscale", &upscale, py::arg("array"), py::arg("scale"), py::arg("size"), py::arg("options"));
+  m.def("output_size", &output_size, py::arg("in_width"), py::arg("in_height"), py::arg("scale"), py::arg("size"),
+        py::arg("options"));
+  m.def("upscale_file", &upscale_file, py::arg("input"), py::arg("output"), py::arg("scale"), py::arg("size"),
+        py::arg("options"));
   m.def("upscale_rows", &upscale_rows, py::arg("rows"), py::arg("top"), py::arg("image_height"), py::arg("first"),
         py::arg("end"), py::arg("out_width"), py::arg("out_height"), py::arg("options"));
   m.def("output_row_of", &ddt::output_row_of, py::arg("y"), py::arg("in_height"), py::arg("out_height"));

@@ -115,3 +115,20 @@ grid.__doc__ = f"""Grid scattered points by data-dependent triangulation.
     cost_channel: "sum", "luma" or a value channel's index (0-based).
     Raises ValueError with the command line's message on bad input.
     """
+
+
+def upscale_file(input: str, output: str, scale: Optional[float] = None,
+                 size: Union[int, Tuple[int, int], None] = None, **options: Any) -> Tuple[int, int]:
+    """Enlarge an image file into another, as `ddtscale input output` does.
+
+    The output's format follows its extension; integer formats keep the
+    input's bit depth, alpha stays alpha. The file is written atomically
+    (never a truncated or clobbered file on failure). Options are those of
+    upscale() but compare and mesh. Returns the output's (height, width).
+    Raises OSError when a file cannot be read or written, ValueError on a
+    bad option.
+    """
+    return tuple(_ddtscale.upscale_file(str(input), str(output), scale, size, options))
+
+
+__all__.append("upscale_file")
