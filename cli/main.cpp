@@ -2,6 +2,7 @@
 //   ddtscale in.png out.exr --scale 10
 //   ddtscale eval --set DIR ...      (see `ddtscale eval --help`)
 
+#include "batch.hpp"
 #include "commands.hpp"
 
 #include "classic_resize.hpp"
@@ -81,8 +82,12 @@ int run_upscale(int argc, char** argv) {
                "ddtscale"};
   app.add_option("input", args.input, "input image (PNG, JPEG, TIFF, EXR, ... anything OpenImageIO reads)")->required();
   app.add_option("output", args.output,
-                 "output image; format from the extension (EXR keeps float, PNG/TIFF keep the input's bit depth)")
-      ->required();
+                 "output image; format from the extension (EXR keeps float, PNG/TIFF keep the input's bit depth)");
+  // Many files at once (cli/batch.hpp): with --outdir every positional is an input.
+  BatchOptions batch;
+  std::vector<std::string> more_inputs;
+  app.add_option("more", more_inputs)->group("");
+  add_batch_options(app, batch);
   app.add_option("-s,--scale", args.scale, "magnification, any real > 0 (e.g. 10 or 2.5)");
   app.add_option("-W,--width", args.width, "output width in pixels (height follows the aspect unless given)");
   app.add_option("-H,--height", args.height, "output height in pixels (width follows the aspect unless given)");
@@ -159,7 +164,8 @@ int run_upscale(int argc, char** argv) {
       "hull it takes the value of the nearest hull point.\n"
       "Examples:\n"
       "  ddtscale in.png out.exr --scale 10\n"
-      "  ddtscale in.png side.png --scale 8 --compare bicubic --mesh mesh.svg --mesh-roi 40,40,64,64");
+      "  ddtscale in.png side.png --scale 8 --compare bicubic --mesh mesh.svg --mesh-roi 40,40,64,64\n"
+      "  ddtscale a.png b.jpg scans/ 'more/*.tif' --outdir out/ --suffix _x4 --scale 4");
   // --list-costs needs no files: answer it before the positional checks.
   for (int i = 1; i < argc; ++i)
     if (std::strcmp(argv[i], "--list-costs") == 0) {
@@ -176,6 +182,16 @@ int run_upscale(int argc, char** argv) {
     return 0;
   } catch (const CLI::ParseError& e) {
     std::cerr << "ddtscale: " << e.what() << " (see ddtscale --help)\n";
+    return 2;
+  }
+  if (!batch.outdir.empty()) {
+    std::vector<std::string> inputs = {args.input};
+    if (!args.output.empty()) inputs.push_back(args.output);
+    inputs.insert(inputs.end(), more_inputs.begin(), more_inputs.end());
+    return run_batch(app, inputs, batch, args.quiet);
+  }
+  if (args.output.empty() || !more_inputs.empty()) {
+    std::cerr << "ddtscale: give an input and an output image (many inputs: --outdir DIR) (see ddtscale --help)\n";
     return 2;
   }
 
