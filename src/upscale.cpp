@@ -203,6 +203,16 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
   return ls;
 }
 
+// The optimizer's statistics of a run over one band (the whole image).
+void take_optimizer_stats(const LawsonStats& ls, UpscaleStats& stats) {
+  stats.iterations = ls.iterations;
+  stats.flips = ls.flips;
+  stats.tests = ls.tests;
+  stats.regions = ls.regions;
+  stats.cost_before = ls.cost_before;
+  stats.cost_after = ls.cost_after;
+}
+
 }  // namespace
 
 Image upscale(const Image& src, int out_width, int out_height, const UpscaleOptions& options, UpscaleStats* stats) {
@@ -264,12 +274,7 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
   if (tile_rows == 0) {
     const LawsonStats ls = run_band(src, 0, H, Band{0, H, 0, out_height}, out_width, out_height, band_options, cost, drive,
                                     region_triangles, region_rows, "", out, local);
-    local.iterations = ls.iterations;
-    local.flips = ls.flips;
-    local.tests = ls.tests;
-    local.regions = ls.regions;
-    local.cost_before = ls.cost_before;
-    local.cost_after = ls.cost_after;
+    take_optimizer_stats(ls, local);
   } else {
     // Bands of tile_rows rows with `margin` rows of overlap each side. In a
     // band, phase k of the optimizer reproduces the whole image's phase k
@@ -366,12 +371,7 @@ Image upscale_rows(const Image& rows, int top, int image_height, int first, int 
   UpscaleStats local;
   const LawsonStats ls = run_band(rows, top, image_height, band, out_width, out_height, options, cost, drive,
                                   region_triangles, region_rows, "", out, local);
-  local.iterations = ls.iterations;
-  local.flips = ls.flips;
-  local.tests = ls.tests;
-  local.regions = ls.regions;
-  local.cost_before = ls.cost_before;
-  local.cost_after = ls.cost_after;
+  take_optimizer_stats(ls, local);
   local.tile_margin = std::min(top > 0 ? first - top : image_height, bottom < image_height ? bottom - end : image_height);
   if (!whole && options.optimize && band_margin_needed(ls.iterations, region_rows) > local.tile_margin)
     throw Error("a margin of " + std::to_string(local.tile_margin) + " rows is too narrow for the " +
