@@ -53,7 +53,10 @@ def band_plan(shape: Tuple[int, ...], options: dict, band_rows: Optional[int] = 
 
     One band (the whole image) unless the options allow exact bands (see the
     module's docstring). Bands are whole regions of the optimizer, at least
-    band_rows (default: 8 regions) and at least the margin tall.
+    band_rows (default: 16 regions) and at least the margin tall; the
+    default margin covers 5 phases of the optimizer (photographs and noise
+    take 2 in the automatic regions, docs/scale-out.md), and is at least 64
+    rows (small regions take more phases).
     """
     height, width = shape[0], shape[1]
     regions = _regions(width, height, options)
@@ -66,14 +69,16 @@ def band_plan(shape: Tuple[int, ...], options: dict, band_rows: Optional[int] = 
                           "(model='point' and optimizer='lawson' split it); it runs as one task", stacklevel=3)
         return (height,), 0
     if margin is None:
-        margin = _ddtscale.band_margin_needed(7, regions)
-    rows = max(band_rows or 8 * regions, margin)
+        # Small regions take more phases (6 with 8-row regions in the tests): at least 64 rows.
+        margin = max(_ddtscale.band_margin_needed(5, regions), 64)
+    rows = max(band_rows or 16 * regions, margin)
     rows = -(-rows // regions) * regions  # whole regions
     bands = [rows] * (height // rows)
     if height % rows:
         bands.append(height % rows)
     if len(bands) > 1 and bands[-1] < margin:  # map_overlap needs bands at least the margin
-        bands[-2] += bands.pop()
+        last = bands.pop()
+        bands[-1] += last
     return tuple(bands), margin
 
 
@@ -83,7 +88,7 @@ def upscale(array: "da.Array", scale: Optional[float] = None, size: Union[int, T
 
     scale, size and the options are ddtscale.upscale's. band_rows: input rows
     per task (rounded up to whole regions of the optimizer); margin: rows
-    of overlap above and below each band (default: enough for 7 phases of
+    of overlap above and below each band (default: enough for 5 phases of
     the optimizer). Returns a lazy dask array of the input's dtype; a band
     that fails raises with its rows in the message.
     """
@@ -94,9 +99,12 @@ def upscale(array: "da.Array", scale: Optional[float] = None, size: Union[int, T
     height, width = array.shape[0], array.shape[1]
     if height == 0 or width == 0 or (array.ndim == 3 and array.shape[2] == 0):
         raise ValueError("the input image is empty")
-    # Options, dtype and size checked now, not in the first task.
-    _ddtscale.upscale(np.zeros((1, 1) + array.shape[2:], array.dtype), 1.0, None, dict(options, quiet=True))
+    if options.get("compare") or options.get("mesh"):
+        raise ValueError("compare and mesh are not options of ddtscale.dask.upscale")
     out_h, out_w = _ddtscale.output_size(width, height, scale, size, options)
+    options = {k: v for k, v in options.items() if k not in ("width", "height")}  # now in out_h, out_w
+    # Options and dtype checked now, not in the first task.
+    _ddtscale.upscale(np.zeros((1, 1) + array.shape[2:], array.dtype), 1.0, None, dict(options, quiet=True))
     bands, margin = band_plan(array.shape, options, band_rows, margin)
     array = array.rechunk((bands, -1) + ((-1,) if array.ndim == 3 else ()))
     starts = np.concatenate([[0], np.cumsum(bands)]).astype(int)

@@ -34,7 +34,7 @@ def test_bands_equal_the_in_process_call_on_a_cluster(client):
     options = dict(model="point", region_rows=8)  # small regions, so that bands cut many
     array = da.from_array(image, chunks=(40, 90, 3))
     for scale in (2.0, 2.5):
-        result = ddask.upscale(array, scale, **options)
+        result = ddask.upscale(array, scale, band_rows=40, **options)
         assert result.numblocks[0] > 1
         expected = ddtscale.upscale(image, scale, **options)
         computed = client.compute(result).result()
@@ -44,7 +44,8 @@ def test_bands_equal_the_in_process_call_on_a_cluster(client):
 
 def test_uint8_bands_and_the_whole_image_fallback():
     image = (noisy(120, 64) * 255).astype(np.uint8)
-    banded = ddask.upscale(da.from_array(image), 3, model="point", region_rows=8, render="linear", cost="variance")
+    banded = ddask.upscale(da.from_array(image), 3, model="point", region_rows=8, render="linear", cost="variance",
+                           band_rows=48, margin=48)
     assert banded.numblocks[0] > 1
     np.testing.assert_array_equal(banded.compute(scheduler="threads"),
                                   ddtscale.upscale(image, 3, model="point", region_rows=8, render="linear",
@@ -62,11 +63,26 @@ def test_a_too_narrow_margin_names_its_band_and_the_margin_needed():
         result.compute(scheduler="sync")
 
 
+def test_band_plan_covers_the_image_in_whole_regions():
+    options = dict(model="point", region_rows=8)
+    for height in (100, 150, 161, 300):
+        bands, margin = ddask.band_plan((height, 50), options, band_rows=40)
+        assert sum(bands) == height
+        assert all(b % 8 == 0 for b in bands[:-1]) and all(b >= margin for b in bands)
+    assert ddask.band_plan((300, 50), dict(options, model="box")) == ((300,), 0)
+
+
 def test_bad_options_fail_before_any_task():
     with pytest.raises(ValueError, match="unknown cost"):
         ddask.upscale(da.zeros((10, 10)), 2, cost="nope")
     with pytest.raises(ValueError, match="int64"):
         ddask.upscale(da.zeros((10, 10), dtype=np.int64), 2)
+    with pytest.raises(ValueError, match="compare and mesh"):
+        ddask.upscale(da.zeros((10, 10)), 2, compare="bicubic")
+    # width= alone: the height follows the aspect, as in ddtscale.upscale
+    image = noisy(20, 30)
+    np.testing.assert_array_equal(ddask.upscale(da.from_array(image), width=45).compute(scheduler="sync"),
+                                  ddtscale.upscale(image, width=45))
 
 
 def _write_pgm(path, image):
