@@ -87,7 +87,6 @@ int run_upscale(int argc, char** argv) {
   BatchOptions batch;
   std::vector<std::string> more_inputs;
   app.add_option("more", more_inputs)->group("");
-  add_batch_options(app, batch);
   app.add_option("-s,--scale", args.scale, "magnification, any real > 0 (e.g. 10 or 2.5)");
   app.add_option("-W,--width", args.width, "output width in pixels (height follows the aspect unless given)");
   app.add_option("-H,--height", args.height, "output height in pixels (width follows the aspect unless given)");
@@ -142,6 +141,7 @@ int run_upscale(int argc, char** argv) {
   app.add_option("--tile-rows", args.tile_rows,
                  "process the image in bands of this many input rows (same output; default: only when it would "
                  "not fit in half the memory; -1: never)");
+  add_batch_options(app, batch);
   app.footer(
       "\nCosts (the paper's weighted content, sum over triangles of area * weight):\n"
       "  sederberg       weight = mean over the triangle's edges of |g1||g2| - g1.g2 (default)\n"
