@@ -203,6 +203,15 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
   return ls;
 }
 
+// The checks before any work: every name and the annealing schedule.
+const CostFunction& checked_cost(const UpscaleOptions& options) {
+  const CostFunction& cost = find_cost(options.cost);
+  check_render_name(options.render);
+  if (options.render == "cubic") slope_limiter_by_name(options.slopes);
+  check_optimizer(options.optimizer, options.anneal);
+  return cost;
+}
+
 // The optimizer's statistics of a run over one band (the whole image).
 void take_optimizer_stats(const LawsonStats& ls, UpscaleStats& stats) {
   stats.iterations = ls.iterations;
@@ -218,10 +227,7 @@ void take_optimizer_stats(const LawsonStats& ls, UpscaleStats& stats) {
 Image upscale(const Image& src, int out_width, int out_height, const UpscaleOptions& options, UpscaleStats* stats) {
   if (src.empty() || src.width <= 0 || src.height <= 0) throw Error("the input image is empty");
   if (out_width < 1 || out_height < 1) throw Error("the output size must be at least 1x1");
-  const CostFunction& cost = find_cost(options.cost);
-  check_render_name(options.render);
-  if (options.render == "cubic") slope_limiter_by_name(options.slopes);
-  check_optimizer(options.optimizer, options.anneal);
+  const CostFunction& cost = checked_cost(options);
   const DriveChannels drive = drive_channels(src, options);
   UpscaleStats local;
   const int W = src.width, H = src.height, C = src.channels;
@@ -354,10 +360,7 @@ Image upscale_rows(const Image& rows, int top, int image_height, int first, int 
   if (!whole && options.model.kind != AcquisitionModel::Kind::point)
     throw Error("--model " + to_string(options.model) +
                 " (the consistent reconstruction) solves over the whole image: bands need --model point");
-  const CostFunction& cost = find_cost(options.cost);
-  check_render_name(options.render);
-  if (options.render == "cubic") slope_limiter_by_name(options.slopes);
-  check_optimizer(options.optimizer, options.anneal);
+  const CostFunction& cost = checked_cost(options);
   const DriveChannels drive = drive_channels(rows, options);
   const int region_rows = optimizer_region_rows(rows.width, image_height, options);
   if (!whole && options.optimize && (region_rows <= 0 || options.optimizer != "lawson"))
