@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """ddtscale.dask.upscale against the in-process call on a large image.
 
-    PYTHONPATH=build/python python3 bench/dask_bands.py [--tiles 6] [--scale 2] [--workers 2]
+    PYTHONPATH=build/python python3 bench/dask_bands.py [--tiles 6] [--scale 2] [--workers 2] [--band-rows N]
 
 The image: images/astronaut_face.png mirrored into a 256 x 256 tile,
 repeated tiles x tiles times (6: 1536 x 1536 RGB, uint8). Runs
@@ -47,6 +47,7 @@ def main():
     parser.add_argument("--tiles", type=int, default=6)
     parser.add_argument("--scale", type=float, default=2)
     parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--band-rows", type=int, help="input rows per band (default: ddtscale.dask's)")
     args = parser.parse_args()
     image = tile_image(args.tiles)
     options = dict(model="point", threads=1)
@@ -54,10 +55,10 @@ def main():
     start = time.perf_counter()
     expected = ddtscale.upscale(image, args.scale, **options)
     in_process = time.perf_counter() - start
-    bands, margin = ddask.band_plan(image.shape, options)
+    bands, margin = ddask.band_plan(image.shape, options, args.band_rows)
     with distributed.LocalCluster(n_workers=args.workers, threads_per_worker=1, dashboard_address=None) as cluster, \
             distributed.Client(cluster) as client:
-        result = ddask.upscale(da.from_array(image), args.scale, **options)
+        result = ddask.upscale(da.from_array(image), args.scale, band_rows=args.band_rows, **options)
         start = time.perf_counter()
         computed = client.compute(result).result()
         blocked = time.perf_counter() - start
