@@ -55,9 +55,18 @@ std::optional<T> optional_arg(const py::object& value, const char* name) {
   try {
     return value.cast<T>();
   } catch (const py::cast_error&) {
-    throw py::type_error(std::string(name) + ": expected a number, got " +
+    throw py::type_error(std::string(name) + ": expected a number (or numbers), got " +
                          std::string(py::str(py::type::of(value).attr("__name__"))));
   }
+}
+
+// A size: one integer for every axis, or a sequence of n (numpy integers too).
+std::vector<int> size_values(const py::object& size, std::size_t n, const char* form) {
+  if (!py::isinstance<py::sequence>(size) || py::isinstance<py::str>(size))
+    return std::vector<int>(n, *optional_arg<int>(size, "size"));
+  const auto values = optional_arg<std::vector<int>>(size, "size");
+  if (values->size() != n) throw ddt::Error(form);
+  return *values;
 }
 
 // size=(height, width) or an int for both; width=/height= as on the command line.
@@ -69,14 +78,9 @@ ddt::SizeRequest size_request(const py::object& scale, const py::object& size, c
   if (!size.is_none()) {
     if (kwargs.contains("width") || kwargs.contains("height"))
       throw ddt::Error("give either size or width/height, not both");
-    if (py::isinstance<py::int_>(size)) {
-      r.width = r.height = size.cast<int>();
-    } else {
-      const auto hw = optional_arg<std::vector<int>>(size, "size");
-      if (hw->size() != 2) throw ddt::Error("size is (height, width) or one number for both");
-      r.height = (*hw)[0];
-      r.width = (*hw)[1];
-    }
+    const std::vector<int> hw = size_values(size, 2, "size is (height, width) or one number for both");
+    r.height = hw[0];
+    r.width = hw[1];
   }
   if (kwargs.contains("width")) r.width = optional_arg<int>(kwargs["width"], "width");
   if (kwargs.contains("height")) r.height = optional_arg<int>(kwargs["height"], "height");
@@ -218,14 +222,11 @@ py::array upscale_volume(const py::array& array, const py::object& scale, const 
       if (n > 65536) throw ddt::Error("--scale gives an output larger than --max-voxels");
       out[a] = static_cast<int>(std::max(1.0, n));
     }
-  } else if (py::isinstance<py::int_>(size)) {
-    out[0] = out[1] = out[2] = size.cast<int>();
   } else {
-    const auto zyx = optional_arg<std::vector<int>>(size, "size");
-    if (zyx->size() != 3) throw ddt::Error("size is (z, y, x) or one number for all three");
-    out[0] = (*zyx)[2];
-    out[1] = (*zyx)[1];
-    out[2] = (*zyx)[0];
+    const std::vector<int> zyx = size_values(size, 3, "size is (z, y, x) or one number for all three");
+    out[0] = zyx[2];
+    out[1] = zyx[1];
+    out[2] = zyx[0];
   }
   for (int a = 0; a < 3; ++a)
     if (out[a] < 1 || out[a] > 65536) throw ddt::Error("--size wants sizes between 1 and 65536");
@@ -256,14 +257,9 @@ py::array grid(const py::array& points, const py::array& values, const py::objec
   GridCall call = grid_call(kwargs, channels);
   ddt::GridOptions& o = call.options;
   if (size.is_none()) throw ddt::Error("give the grid's size: size=N or (height, width)");
-  if (py::isinstance<py::int_>(size)) {
-    o.width = o.height = size.cast<int>();
-  } else {
-    const auto hw = optional_arg<std::vector<int>>(size, "size");
-    if (hw->size() != 2) throw ddt::Error("size is (height, width) or one number for both");
-    o.height = (*hw)[0];
-    o.width = (*hw)[1];
-  }
+  const std::vector<int> hw = size_values(size, 2, "size is (height, width) or one number for both");
+  o.height = hw[0];
+  o.width = hw[1];
   if (o.width < 1 || o.height < 1) throw ddt::Error("--size: the width and height must be positive");
   if (static_cast<long long>(o.width) * o.height > call.max_pixels)
     throw ddt::Error("grid " + std::to_string(o.width) + "x" + std::to_string(o.height) + " exceeds --max-pixels " +

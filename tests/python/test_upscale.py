@@ -58,6 +58,12 @@ def test_dtype_is_kept(textured, dtype, peak):
     assert np.abs(out.astype(np.float64) - expected).max() <= (1 if peak > 1 else 1e-6)
 
 
+def test_sizes_may_be_numpy_integers(textured):
+    assert ddtscale.upscale(textured, size=np.int64(30)).shape == (30, 30, 3)
+    assert ddtscale.upscale(textured, size=np.array([30, 20])).shape == (30, 20, 3)
+    assert ddtscale.upscale(textured, np.float32(1.5)).shape == (60, 72, 3)
+
+
 def test_two_dimensional_arrays_stay_two_dimensional(textured):
     grey = textured[..., 0]
     out = ddtscale.upscale(grey, width=96)
