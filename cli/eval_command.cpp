@@ -115,6 +115,8 @@ int run_eval_command(int argc, char** argv) {
   std::string model = "box";
   app.add_option("--model", model, "acquisition model of the ddt methods: box, gauss:SIGMA, bicubic, point")
       ->capture_default_str();
+  bool no_step_edges = false;
+  app.add_flag("--no-step-edges", no_step_edges, "ddt methods under the box model: no straight-edge footprints");
   app.add_option("--slopes", slopes, "slope limiter of the cubic render: mc4, mc, central, minmod")
       ->check(CLI::IsMember({"mc4", "mc", "central", "minmod"}))
       ->capture_default_str();
@@ -147,6 +149,7 @@ int run_eval_command(int argc, char** argv) {
     ddt_options.luma_cost = luma_cost;
     ddt_options.slopes = slopes;
     ddt_options.model = ddt::parse_acquisition_model(model);
+    ddt_options.step_edges = !no_step_edges;
     ddt_options.optimizer = optimizer;
     ddt_options.anneal.seed = seed;
     ddt::EvalOptions options;

@@ -52,6 +52,7 @@ struct Arguments {
   std::string render = "cubic";
   std::string slopes = "mc4";
   std::string model = "box";
+  bool no_step_edges = false;
   std::string compare;    // classic method shown left of DDT, or empty
   std::string mesh_view;  // path of the mesh drawing, or empty
   std::string mesh_roi;   // x,y,w,h
@@ -116,6 +117,10 @@ int run_upscale(int argc, char** argv) {
         }
       })
       ->capture_default_str();
+  app.add_flag("--no-step-edges", args.no_step_edges,
+               "box model: keep the smooth reconstruction where one straight edge between two flat levels "
+               "explains a pixel's 3x3 neighbourhood (by default it is drawn as that edge, sharp to the output "
+               "pixel)");
   app.add_flag("--no-optimize", args.no_optimize, "skip the flips: render the initial Delaunay mesh");
   app.add_option("--tolerance", args.tolerance, "a flip must lower the local cost by more than this fraction")
       ->check(CLI::Range(0.0, 1.0))
@@ -258,6 +263,7 @@ int run_upscale(int argc, char** argv) {
     options.render = args.render;
     options.slopes = args.slopes;
     options.model = ddt::parse_acquisition_model(args.model);
+    options.step_edges = !args.no_step_edges;
     options.relative_tolerance = args.tolerance;
     options.optimizer = args.optimizer;
     options.anneal = args.anneal;

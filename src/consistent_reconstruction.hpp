@@ -11,12 +11,15 @@
 //      found instead of ringing across them; but a mesh with long thin
 //      triangles makes A ill-conditioned (a vertex of thin triangles has
 //      little weight in its own footprint), so it is not solved exactly.
-//   2. on the unflipped Delaunay mesh of the grid, whose operator G is
-//      well-conditioned: G delta2 = the rest, solved to the tolerance
-//      (Jacobi-preconditioned BiCGSTAB, a handful of iterations).
-//   O = O0 + render_linear(mesh, delta1) + render_linear(grid_mesh, delta2),
-// so that acquire(O) = src within the tolerance, whatever the scale.
-//   3. halos: each footprint's values are clamped to the range of the 3x3
+//   2. on the bilinear surface of the pixel grid (grid_surface.hpp), whose
+//      operator G is well-conditioned and separable: G delta2 = the rest,
+//      solved exactly, axis by axis.
+//   O = O0 + render_linear(mesh, delta1) + bilinear(delta2),
+// so that acquire(O) = src up to rounding, whatever the scale.
+//   3. step edges (box model): a footprint whose 3x3 input pixels one
+//      straight edge between two levels explains is drawn as that edge
+//      (step_edges.hpp), sharp to the output pixel;
+//   4. halos: each footprint's values are clamped to the range of the 3x3
 //      input pixels around it (open below at a strict local minimum, above
 //      at a strict maximum: a thin dark line may go darker than any input
 //      pixel) after a common shift that keeps the footprint's mean; where
@@ -28,7 +31,6 @@
 //   out        the rendered surface, out_width x out_height x C, C <= 16
 //              (corrected in place)
 //   mesh       the mesh it was rendered from; its points the pixel centres of src
-//   grid_mesh  the Delaunay triangulation of the same points (before flips)
 //   src        the input image, width x height x C
 // Errors: throws ddt::Error when a mesh is not src's pixel grid.
 
@@ -41,24 +43,24 @@ namespace ddt {
 struct ConsistencyOptions {
   AcquisitionModel model;       // not point
   int mesh_steps = 2;           // back-projection steps on the data-dependent mesh (at most)
-  int max_iterations = 200;     // BiCGSTAB iterations on the grid, each two products with G
-  double tolerance = 1e-6;
-  bool limit_halos = true;      // clamp overshoots beside edges, keeping each footprint's mean      // stop when every input pixel is reproduced within this
+  double tolerance = 1e-6;      // a final grid correction where limiting left more than 10x this
+  bool limit_halos = true;      // clamp overshoots beside edges, keeping each footprint's mean
+  bool step_edges = true;       // box model: footprints on one straight edge drawn as that edge
 };
 
 struct ConsistencyStats {
   int mesh_steps = 0;           // back-projection steps kept
-  int iterations = 0;           // BiCGSTAB iterations
   double residual_mesh = 0;     // max residual after the mesh steps
   double residual_before = 0;   // max |src - acquire(O0)| over pixels and channels
   double residual_after = 0;    // the same for the solved delta, at input resolution
   long long nonzeros = 0;       // of A
   long long halo_footprints = 0;  // footprints and channels whose overshoot was limited
+  long long step_edge_footprints = 0;  // footprints drawn as one straight edge
   int halo_passes = 0;            // 1 when limiting needed a final grid correction
   double seconds_operator = 0, seconds_solve = 0, seconds_render = 0;
 };
 
-void make_consistent(Image& out, const Mesh2& mesh, const Mesh2& grid_mesh, const Image& src,
-                     const ConsistencyOptions& options, ConsistencyStats* stats = nullptr);
+void make_consistent(Image& out, const Mesh2& mesh, const Image& src, const ConsistencyOptions& options,
+                     ConsistencyStats* stats = nullptr);
 
 }  // namespace ddt

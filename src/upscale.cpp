@@ -96,10 +96,7 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
     mesh = delaunay_triangulation(points);
   }
   const double seconds_triangulate = seconds_since(t0);
-  // The consistent reconstruction's well-conditioned half needs the mesh before flips.
   const bool consistent = options.model.kind != AcquisitionModel::Kind::point;
-  Mesh2 grid_mesh;
-  if (consistent) grid_mesh = mesh;
   local.seconds_triangulate += seconds_triangulate;
   local.triangles += mesh.triangle_count();
   log("triangulate: " + std::to_string(mesh.points.size()) + " points, " + std::to_string(mesh.triangle_count()) +
@@ -186,18 +183,20 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
     if (progress) progress->begin(label + "consistency");
     ConsistencyOptions co;
     co.model = options.model;
+    co.step_edges = options.step_edges;
     ConsistencyStats cs;
-    make_consistent(out, mesh, grid_mesh, src, co, &cs);
-    local.consistency_iterations = cs.iterations;
+    make_consistent(out, mesh, src, co, &cs);
+    local.consistency_mesh_steps = cs.mesh_steps;
     local.consistency_residual = cs.residual_after;
     local.seconds_consistency = seconds_since(t0);
-    char line[240];
+    char line[320];
     std::snprintf(line, sizeof line,
-                  "consistency (%s): residual %.3g, %.3g after %d steps on the mesh, %.3g after %d on the grid; "
-                  "%lld nonzeros; operators %.3f s, solve %.3f s, render %.3f s",
+                  "consistency (%s): residual %.3g, %.3g after %d steps on the mesh, %.3g after the grid solve; "
+                  "%lld nonzeros; %lld step-edge footprints, %lld halo-limited; operators %.3f s, solve %.3f s, "
+                  "render %.3f s",
                   to_string(options.model).c_str(), cs.residual_before, cs.residual_mesh, cs.mesh_steps,
-                  cs.residual_after, cs.iterations,
-                  cs.nonzeros, cs.seconds_operator, cs.seconds_solve, cs.seconds_render);
+                  cs.residual_after, cs.nonzeros, cs.step_edge_footprints, cs.halo_footprints,
+                  cs.seconds_operator, cs.seconds_solve, cs.seconds_render);
     log(line);
   }
   return ls;
@@ -251,11 +250,11 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
     const double per_pixel = 16 + 48 + 6 + 48 + (drive.identity ? 0 : 4.0 * drive.K) +
                              (options.render == "cubic" ? 8.0 * C : 0) + 4.0 * C;
     double fixed = 4.0 * C * (static_cast<double>(W) * H + static_cast<double>(out_width) * out_height);
-    // The consistent reconstruction, untiled: two triangle owners per output
+    // The consistent reconstruction, untiled: a triangle owner per output
     // pixel; per input pixel two operators of about 8 nonzeros (8 bytes
     // each, twice that while assembled) and about ten double vectors.
     if (options.model.kind != AcquisitionModel::Kind::point)
-      fixed += 8.0 * out_width * out_height + (256.0 + 80.0 * C) * W * H;
+      fixed += 4.0 * out_width * out_height + (256.0 + 80.0 * C) * W * H;
     const double budget = options.max_memory > 0 ? double(options.max_memory) : 0.5 * double(physical_memory());
     const double whole = fixed + per_pixel * W * H;
     if (whole > budget) {

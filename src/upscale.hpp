@@ -45,6 +45,9 @@ struct UpscaleOptions {
   // reconstruction, consistent_reconstruction.hpp); point: the surface
   // interpolates the samples, no correction.
   AcquisitionModel model;
+  // Box model: a pixel whose 3x3 neighbourhood one straight edge between
+  // two flat levels explains is drawn as that edge (step_edges.hpp).
+  bool step_edges = true;
   std::function<void(const std::string&)> log;  // verbose lines; may be empty
   // Speed and memory (docs/performance.md). Regions of the parallel
   // optimizer in rows of input pixels: 0 automatic (optimizer.hpp), < 0
@@ -78,7 +81,7 @@ struct UpscaleStats {
   int tiles = 1;         // bands the image was processed in
   int tile_margin = 0;   // rows of overlap on each side of a tile
   // The consistent reconstruction (model other than point).
-  int consistency_iterations = 0;
+  int consistency_mesh_steps = 0;    // back-projection steps on the data-dependent mesh
   double consistency_residual = 0;  // max |input - acquire(output)| at input resolution, before rounding
   double seconds_consistency = 0;
   bool consistency_skipped = false;  // tiled: the point model was used instead
