@@ -94,6 +94,7 @@ py::dict image_defaults() {
   d["render"] = c.options.render;
   d["slopes"] = c.options.slopes;
   d["model"] = ddt::to_string(c.options.model);
+  d["no_step_edges"] = !c.options.step_edges;
   d["no_optimize"] = !c.options.optimize;
   d["tolerance"] = c.options.relative_tolerance;
   d["max_pixels"] = c.max_pixels;
@@ -128,6 +129,9 @@ ImageCall image_call(const py::dict& kwargs) {
   c.model = ddt::to_string(o.model);
   k.get("model", c.model);
   o.model = ddt::parse_acquisition_model(c.model);
+  bool no_step_edges = !o.step_edges;
+  k.get("no_step_edges", no_step_edges);
+  o.step_edges = !no_step_edges;
   bool no_optimize = !o.optimize;
   k.get("no_optimize", no_optimize);
   o.optimize = !no_optimize;

@@ -24,6 +24,7 @@ def upscale(
     render: Literal["cubic", "linear"] = ...,
     slopes: Literal["mc4", "mc", "central", "minmod"] = ...,
     model: str = ...,
+    no_step_edges: bool = ...,
     no_optimize: bool = ...,
     tolerance: float = ...,
     max_pixels: int = ...,

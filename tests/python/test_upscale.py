@@ -1,6 +1,7 @@
 # ddtscale.upscale on numpy arrays: the mathematics (samples reproduced, the
 # model's averages reproduced), the dtypes, the options and bad input.
 import os
+import re
 import subprocess
 import threading
 import time
@@ -59,8 +60,8 @@ def test_dtype_is_kept(textured, dtype, peak):
 
 
 def test_sizes_may_be_numpy_integers(textured):
-    assert ddtscale.upscale(textured, size=np.int64(30)).shape == (30, 30, 3)
-    assert ddtscale.upscale(textured, size=np.array([30, 20])).shape == (30, 20, 3)
+    assert ddtscale.upscale(textured, size=np.int64(100)).shape == (100, 100, 3)
+    assert ddtscale.upscale(textured, size=np.array([90, 70])).shape == (90, 70, 3)
     assert ddtscale.upscale(textured, np.float32(1.5)).shape == (60, 72, 3)
 
 
@@ -123,6 +124,12 @@ def test_options_match_the_command_line(cli):
         if name in ("alpha_channel", "region_rows"):  # the library's, no command-line flags
             continue
         assert "--" + name.replace("_", "-") in out, name
+    # ... and every option of the command line is a keyword (but those about files and the command itself).
+    flags = set(re.findall(r"^\s+(?:-\w,)?--([a-z][a-z0-9-]*)", out, re.MULTILINE))
+    not_keywords = {"help", "list-costs", "outdir", "suffix", "format", "overwrite", "jobs", "scale"}  # scale: positional
+    assert flags - not_keywords <= {k.replace("_", "-") for k in ddtscale.UPSCALE_OPTIONS}, \
+        flags - not_keywords - {k.replace("_", "-") for k in ddtscale.UPSCALE_OPTIONS}
+    assert "scale" in flags and "tile-rows" in flags
 
 
 @pytest.mark.parametrize("options,message", [
