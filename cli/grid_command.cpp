@@ -9,6 +9,7 @@
 #include "gridding.hpp"
 #include "image_io.hpp"
 #include "point_table.hpp"
+#include "upscale.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -126,7 +127,7 @@ int run_grid_command(int argc, char** argv) {
   std::string optimizer = "lawson";
   ddt::AnnealOptions anneal;
   double tolerance = 1e-9;
-  long long max_pixels = 1LL << 28;
+  long long max_pixels = ddt::default_max_pixels;
 
   app.add_option("input", input,
                  "points: one per line, x,y,value[,value...] or x y value (CSV with ',' or ';', or blank-separated\n"

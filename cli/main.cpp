@@ -2,6 +2,7 @@
 //   ddtscale in.png out.exr --scale 10
 //   ddtscale eval --set DIR ...      (see `ddtscale eval --help`)
 
+#include "batch.hpp"
 #include "commands.hpp"
 
 #include "classic_resize.hpp"
@@ -11,6 +12,7 @@
 #include "image_io.hpp"
 #include "image_mesh.hpp"
 #include "mesh_view.hpp"
+#include "output_size.hpp"
 #include "progress.hpp"
 #include "upscale.hpp"
 
@@ -40,7 +42,7 @@ struct Arguments {
   std::string cost_channel = "sum";
   bool no_optimize = false;
   double tolerance = 1e-9;
-  long long max_pixels = 1LL << 28;
+  long long max_pixels = ddt::default_max_pixels;
   bool verbose = false;
   bool quiet = false;
   int threads = 0;    // 0: all cores
@@ -62,25 +64,12 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 // Output size from --scale / --width / --height; throws ddt::Error.
 void output_size(const Arguments& args, int in_w, int in_h, int& out_w, int& out_h) {
-  if (args.scale_given && (args.width_given || args.height_given))
-    throw ddt::Error("give either --scale or --width/--height, not both");
-  if (args.scale_given) {
-    if (!(args.scale > 0) || !std::isfinite(args.scale)) throw ddt::Error("--scale must be a positive number");
-    const double w = std::round(in_w * args.scale), h = std::round(in_h * args.scale);
-    if (w > 2e9 || h > 2e9) throw ddt::Error("--scale gives an output larger than --max-pixels");
-    out_w = static_cast<int>(std::max(1.0, w));
-    out_h = static_cast<int>(std::max(1.0, h));
-  } else if (args.width_given || args.height_given) {
-    if ((args.width_given && args.width <= 0) || (args.height_given && args.height <= 0))
-      throw ddt::Error("--width and --height must be positive");
-    out_w = args.width > 0 ? args.width : static_cast<int>(std::max(1.0, std::round(double(in_w) * args.height / in_h)));
-    out_h = args.height > 0 ? args.height : static_cast<int>(std::max(1.0, std::round(double(in_h) * args.width / in_w)));
-  } else {
-    throw ddt::Error("give the magnification: --scale S, or --width W and/or --height H");
-  }
-  if (static_cast<long long>(out_w) * out_h > args.max_pixels)
-    throw ddt::Error("output " + std::to_string(out_w) + "x" + std::to_string(out_h) + " exceeds --max-pixels " +
-                     std::to_string(args.max_pixels));
+  ddt::SizeRequest request;
+  if (args.scale_given) request.scale = args.scale;
+  if (args.width_given) request.width = args.width;
+  if (args.height_given) request.height = args.height;
+  request.max_pixels = args.max_pixels;
+  ddt::output_size(request, in_w, in_h, out_w, out_h);
 }
 
 int run_upscale(int argc, char** argv) {
@@ -94,8 +83,11 @@ int run_upscale(int argc, char** argv) {
                "ddtscale"};
   app.add_option("input", args.input, "input image (PNG, JPEG, TIFF, EXR, ... anything OpenImageIO reads)")->required();
   app.add_option("output", args.output,
-                 "output image; format from the extension (EXR keeps float, PNG/TIFF keep the input's bit depth)")
-      ->required();
+                 "output image; format from the extension (EXR keeps float, PNG/TIFF keep the input's bit depth)");
+  // Many files at once (cli/batch.hpp): with --outdir every positional is an input.
+  BatchOptions batch;
+  std::vector<std::string> more_inputs;
+  app.add_option("more", more_inputs)->group("");
   app.add_option("-s,--scale", args.scale, "magnification, any real > 0 (e.g. 10 or 2.5)");
   app.add_option("-W,--width", args.width, "output width in pixels (height follows the aspect unless given)");
   app.add_option("-H,--height", args.height, "output height in pixels (width follows the aspect unless given)");
@@ -154,6 +146,7 @@ int run_upscale(int argc, char** argv) {
   app.add_option("--tile-rows", args.tile_rows,
                  "process the image in bands of this many input rows (same output; default: only when it would "
                  "not fit in half the memory; -1: never)");
+  add_batch_options(app, batch);
   app.footer(
       "\nCosts (the paper's weighted content, sum over triangles of area * weight):\n"
       "  sederberg       weight = mean over the triangle's edges of |g1||g2| - g1.g2 (default)\n"
@@ -176,7 +169,8 @@ int run_upscale(int argc, char** argv) {
       "hull it takes the value of the nearest hull point.\n"
       "Examples:\n"
       "  ddtscale in.png out.exr --scale 10\n"
-      "  ddtscale in.png side.png --scale 8 --compare bicubic --mesh mesh.svg --mesh-roi 40,40,64,64");
+      "  ddtscale in.png side.png --scale 8 --compare bicubic --mesh mesh.svg --mesh-roi 40,40,64,64\n"
+      "  ddtscale a.png b.jpg scans/ 'more/*.tif' --outdir out/ --suffix _x4 --scale 4");
   // --list-costs needs no files: answer it before the positional checks.
   for (int i = 1; i < argc; ++i)
     if (std::strcmp(argv[i], "--list-costs") == 0) {
@@ -193,6 +187,16 @@ int run_upscale(int argc, char** argv) {
     return 0;
   } catch (const CLI::ParseError& e) {
     std::cerr << "ddtscale: " << e.what() << " (see ddtscale --help)\n";
+    return 2;
+  }
+  if (!batch.outdir.empty()) {
+    std::vector<std::string> inputs = {args.input};
+    if (!args.output.empty()) inputs.push_back(args.output);
+    inputs.insert(inputs.end(), more_inputs.begin(), more_inputs.end());
+    return run_batch(app, inputs, batch, args.quiet);
+  }
+  if (args.output.empty() || !more_inputs.empty()) {
+    std::cerr << "ddtscale: give an input and an output image (many inputs: --outdir DIR) (see ddtscale --help)\n";
     return 2;
   }
 

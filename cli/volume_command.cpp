@@ -70,7 +70,7 @@ int run_volume_upscale(int argc, char** argv) {
                                         encoding = "same";
   double scale = 0, tolerance = 1e-9, iso = NAN;
   std::vector<std::string> compare;
-  long long max_voxels = 1LL << 29;
+  long long max_voxels = ddt::default_max_voxels;
   bool verbose = false, quiet = false;
   ddt::VolumeReadOptions read_options;
   CLI::App app{"ddtscale (volumes): enlarge a scalar NRRD volume by data-dependent tetrahedrization.\n"

@@ -10,6 +10,7 @@ packages=(
   libteem-dev
   libcsv-dev
   libopencv-dev libvips-dev
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-dask python3-distributed
 )
 missing=()
 for p in "${packages[@]}"; do

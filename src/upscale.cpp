@@ -66,19 +66,23 @@ int first_output_row(int y, int in_height, int out_height) {
 struct Band {
   int top, bottom;      // input rows of the band, margins included
   int out_first, out_end;  // output rows it renders
+  int out_origin = 0;   // the output row held by row 0 of the image rendered into
 };
 
 // Triangulates, optimizes and renders one band of input rows into `out`.
 // Returns the optimizer's statistics (phases in `iterations`).
-LawsonStats run_band(const Image& src, const Band& band, int out_width, int out_height, const UpscaleOptions& options,
-                     const CostFunction& cost, const DriveChannels& drive, long long region_triangles,
-                     int region_rows, const std::string& label, Image& out, UpscaleStats& local) {
+// `src` holds rows [src_top, src_top + src.height) of an image of
+// image_height rows; the band lies within them.
+LawsonStats run_band(const Image& src, int src_top, int image_height, const Band& band, int out_width, int out_height,
+                     const UpscaleOptions& options, const CostFunction& cost, const DriveChannels& drive,
+                     long long region_triangles, int region_rows, const std::string& label, Image& out,
+                     UpscaleStats& local) {
   auto log = [&](const std::string& line) {
     if (options.log) options.log(label + line);
   };
   Progress* progress = options.progress;
   const int W = src.width, C = src.channels;
-  const bool whole = band.top == 0 && band.bottom == src.height;
+  const bool whole = band.top == 0 && band.bottom == image_height;
   const std::size_t n = static_cast<std::size_t>(W) * (band.bottom - band.top);
 
   auto t0 = std::chrono::steady_clock::now();
@@ -101,8 +105,9 @@ LawsonStats run_band(const Image& src, const Band& band, int out_width, int out_
   // The band's samples (the image itself when the band is the image).
   std::vector<float> band_pixels;
   if (!whole)
-    band_pixels.assign(src.pixels.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(band.top) * W * C),
-                       src.pixels.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(band.bottom) * W * C));
+    band_pixels.assign(
+        src.pixels.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(band.top - src_top) * W * C),
+        src.pixels.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(band.bottom - src_top) * W * C));
   const std::vector<float>& values = whole ? src.pixels : band_pixels;
 
   t0 = std::chrono::steady_clock::now();
@@ -151,7 +156,7 @@ LawsonStats run_band(const Image& src, const Band& band, int out_width, int out_
   grid.width = out_width;
   grid.height = out_height;
   grid.scale_x = static_cast<double>(out_width) / src.width;
-  grid.scale_y = static_cast<double>(out_height) / src.height;
+  grid.scale_y = static_cast<double>(out_height) / image_height;
   grid.first_row = band.out_first;
   grid.rows = band.out_end - band.out_first;
   RenderStats rs;
@@ -165,7 +170,7 @@ LawsonStats run_band(const Image& src, const Band& band, int out_width, int out_
       gradients = gradients_of(part, slope_limiter_by_name(options.slopes));
     }
   }
-  render_mesh_into(out, band.out_first, mesh, values, C, grid, &rs, true,
+  render_mesh_into(out, band.out_first - band.out_origin, mesh, values, C, grid, &rs, true,
                    options.render == "cubic" ? &gradients : nullptr, progress);
   const double seconds_render = seconds_since(t0);
   local.seconds_render += seconds_render;
@@ -197,15 +202,31 @@ LawsonStats run_band(const Image& src, const Band& band, int out_width, int out_
   return ls;
 }
 
+// The checks before any work: every name and the annealing schedule.
+const CostFunction& checked_cost(const UpscaleOptions& options) {
+  const CostFunction& cost = find_cost(options.cost);
+  check_render_name(options.render);
+  if (options.render == "cubic") slope_limiter_by_name(options.slopes);
+  check_optimizer(options.optimizer, options.anneal);
+  return cost;
+}
+
+// The optimizer's statistics of a run over one band (the whole image).
+void take_optimizer_stats(const LawsonStats& ls, UpscaleStats& stats) {
+  stats.iterations = ls.iterations;
+  stats.flips = ls.flips;
+  stats.tests = ls.tests;
+  stats.regions = ls.regions;
+  stats.cost_before = ls.cost_before;
+  stats.cost_after = ls.cost_after;
+}
+
 }  // namespace
 
 Image upscale(const Image& src, int out_width, int out_height, const UpscaleOptions& options, UpscaleStats* stats) {
   if (src.empty() || src.width <= 0 || src.height <= 0) throw Error("the input image is empty");
   if (out_width < 1 || out_height < 1) throw Error("the output size must be at least 1x1");
-  const CostFunction& cost = find_cost(options.cost);
-  check_render_name(options.render);
-  if (options.render == "cubic") slope_limiter_by_name(options.slopes);
-  check_optimizer(options.optimizer, options.anneal);
+  const CostFunction& cost = checked_cost(options);
   const DriveChannels drive = drive_channels(src, options);
   UpscaleStats local;
   const int W = src.width, H = src.height, C = src.channels;
@@ -256,14 +277,9 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
 
   Image out(out_width, out_height, C);
   if (tile_rows == 0) {
-    const LawsonStats ls = run_band(src, Band{0, H, 0, out_height}, out_width, out_height, band_options, cost, drive,
+    const LawsonStats ls = run_band(src, 0, H, Band{0, H, 0, out_height}, out_width, out_height, band_options, cost, drive,
                                     region_triangles, region_rows, "", out, local);
-    local.iterations = ls.iterations;
-    local.flips = ls.flips;
-    local.tests = ls.tests;
-    local.regions = ls.regions;
-    local.cost_before = ls.cost_before;
-    local.cost_after = ls.cost_after;
+    take_optimizer_stats(ls, local);
   } else {
     // Bands of tile_rows rows with `margin` rows of overlap each side. In a
     // band, phase k of the optimizer reproduces the whole image's phase k
@@ -282,9 +298,9 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
                   first_output_row(y1, H, out_height)};
         UpscaleStats part;
         const std::string label = "tile " + std::to_string(i + 1) + "/" + std::to_string(tiles) + " ";
-        const LawsonStats ls = run_band(src, band, out_width, out_height, band_options, cost, drive, region_triangles,
+        const LawsonStats ls = run_band(src, 0, H, band, out_width, out_height, band_options, cost, drive, region_triangles,
                                         region_rows, label, out, part);
-        const int needed = (ls.iterations + 1) * ((region_rows + 1) / 2) + 8;
+        const int needed = band_margin_needed(ls.iterations, region_rows);
         if (options.optimize && needed > margin) {
           margin = needed + region_rows;
           if (options.log) options.log(label + "margin too narrow for " + std::to_string(ls.iterations) +
@@ -324,6 +340,47 @@ bool upscale(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, int out_width, int 
     dst.errorfmt("{}", e.what());
     return false;
   }
+}
+
+int output_row_of(int y, int in_height, int out_height) { return first_output_row(y, in_height, out_height); }
+
+int band_margin_needed(int phases, int region_rows) { return (phases + 1) * ((region_rows + 1) / 2) + 8; }
+
+Image upscale_rows(const Image& rows, int top, int image_height, int first, int end, int out_width, int out_height,
+                   const UpscaleOptions& options, UpscaleStats* stats) {
+  if (rows.empty() || rows.width <= 0 || rows.height <= 0) throw Error("the input image is empty");
+  if (out_width < 1 || out_height < 1) throw Error("the output size must be at least 1x1");
+  const int bottom = top + rows.height;
+  if (top < 0 || bottom > image_height || first < top || end > bottom || first >= end)
+    throw Error("upscale_rows: rows " + std::to_string(first) + ".." + std::to_string(end) + " are not within the " +
+                "given rows " + std::to_string(top) + ".." + std::to_string(bottom) + " of an image of " +
+                std::to_string(image_height));
+  const bool whole = top == 0 && bottom == image_height;
+  if (!whole && options.model.kind != AcquisitionModel::Kind::point)
+    throw Error("--model " + to_string(options.model) +
+                " (the consistent reconstruction) solves over the whole image: bands need --model point");
+  const CostFunction& cost = checked_cost(options);
+  const DriveChannels drive = drive_channels(rows, options);
+  const int region_rows = optimizer_region_rows(rows.width, image_height, options);
+  if (!whole && options.optimize && (region_rows <= 0 || options.optimizer != "lawson"))
+    throw Error("a band equals the whole image's rows only under Lawson's region schedule "
+                "(optimizer lawson, region_rows > 0)");
+  const long long region_triangles = region_rows > 0 ? region_rows * 2LL * std::max(1, rows.width - 1) : -1;
+  Band band{top, bottom, first_output_row(first, image_height, out_height),
+            first_output_row(end, image_height, out_height)};
+  band.out_origin = band.out_first;
+  Image out(out_width, band.out_end - band.out_first, rows.channels);
+  UpscaleStats local;
+  const LawsonStats ls = run_band(rows, top, image_height, band, out_width, out_height, options, cost, drive,
+                                  region_triangles, region_rows, "", out, local);
+  take_optimizer_stats(ls, local);
+  local.tile_margin = std::min(top > 0 ? first - top : image_height, bottom < image_height ? bottom - end : image_height);
+  if (!whole && options.optimize && band_margin_needed(ls.iterations, region_rows) > local.tile_margin)
+    throw Error("a margin of " + std::to_string(local.tile_margin) + " rows is too narrow for the " +
+                std::to_string(ls.iterations) + " phases of the optimizer: give at least " +
+                std::to_string(band_margin_needed(ls.iterations, region_rows)) + " rows");
+  if (stats) *stats = local;
+  return out;
 }
 
 }  // namespace ddt

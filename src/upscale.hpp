@@ -91,6 +91,29 @@ struct UpscaleStats {
 Image upscale(const Image& src, int out_width, int out_height, const UpscaleOptions& options = {},
               UpscaleStats* stats = nullptr);
 
+// One band of the enlargement, for callers that split an image themselves
+// (Dask blocks, python/ddtscale/dask.py): output rows
+// [output_row_of(first), output_row_of(end)) of upscale(image, out_width,
+// out_height, options), computed from input rows [top, top + rows.height)
+// of the image (image_height rows in all) that hold [first, end) with
+// margins. Equal to those rows of upscale() bit for bit when the band is the
+// whole image, or under the point model and Lawson's region schedule
+// (options.region_rows > 0, or automatic on a large image) with margins of
+// band_margin_needed(phases, region_rows) rows where the band is cut.
+// Throws ddt::Error otherwise (too narrow a margin: after the work, with the
+// width needed).
+Image upscale_rows(const Image& rows, int top, int image_height, int first, int end, int out_width, int out_height,
+                   const UpscaleOptions& options = {}, UpscaleStats* stats = nullptr);
+// The first output row sampled at or below input row y.
+int output_row_of(int y, int in_height, int out_height);
+// Rows of margin a band needs on a cut side for `phases` phases of the
+// region schedule (docs/performance.md).
+int band_margin_needed(int phases, int region_rows);
+
+// Outputs larger than this many pixels are refused by the command line and
+// the Python module unless raised (--max-pixels, max_pixels=).
+inline constexpr long long default_max_pixels = 1LL << 28;
+
 // OpenImageIO-shaped form: dst is resized to out_width x out_height of
 // roi (default: all of src) and filled; returns false and sets dst's error
 // on failure.

@@ -48,6 +48,10 @@ struct VolumeUpscaleStats {
   long long planar_flips = 0;   // its 2D edge flips
 };
 
+// Outputs larger than this many voxels are refused by the command line and
+// the Python module unless raised (--max-voxels, max_voxels=).
+inline constexpr long long default_max_voxels = 1LL << 29;
+
 const std::vector<std::string>& volume_upscale_methods();  // ddt, delaunay, trilinear, tricubic
 
 // Enlarges `src` to nx x ny x nz (each >= 1).

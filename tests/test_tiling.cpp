@@ -1,6 +1,7 @@
 // Tiles (bands of input rows with overlapping margins) and row windows of
 // the rasterizer: a tiled run must equal the untiled run bit for bit.
 
+#include "error.hpp"
 #include "rasterizer.hpp"
 #include "synthetic_scenes.hpp"
 #include "test_support.hpp"
@@ -9,6 +10,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <random>
 
 using namespace ddt;
@@ -115,4 +117,49 @@ TEST_CASE("render_mesh: a window of rows is the same rows of the whole image") {
     Image small(g.width, 10, 3);
     CHECK_THROWS(render_mesh_into(small, 0, mesh, in.pixels, 3, part));
   }
+}
+
+TEST_CASE("upscale_rows: bands with margins are the whole image's rows, bit for bit") {
+  const Image in = textured(90, 120);
+  UpscaleOptions opt;
+  opt.model.kind = AcquisitionModel::Kind::point;
+  opt.region_rows = 8;
+  for (double scale : {2.0, 2.5}) {
+    CAPTURE(scale);
+    const int ow = static_cast<int>(90 * scale), oh = static_cast<int>(120 * scale);
+    UpscaleStats whole;
+    const Image a = upscale(in, ow, oh, opt, &whole);
+    const int margin = band_margin_needed(whole.iterations + 2, 8);
+    // Bands of 35 rows (regions cut anywhere), each from its rows and margins only.
+    for (int first = 0; first < 120; first += 35) {
+      const int end = std::min(120, first + 35);
+      const int top = std::max(0, first - margin), bottom = std::min(120, end + margin);
+      Image rows(90, bottom - top, 3);
+      std::copy(in.pixels.begin() + static_cast<std::ptrdiff_t>(in.index(0, top)),
+                in.pixels.begin() + static_cast<std::ptrdiff_t>(in.index(0, bottom - 1) + 90 * 3), rows.pixels.begin());
+      const Image band = upscale_rows(rows, top, 120, first, end, ow, oh, opt);
+      const int y0 = output_row_of(first, 120, oh);
+      REQUIRE(band.height == output_row_of(end, 120, oh) - y0);
+      long long differ = 0;
+      for (std::size_t i = 0; i < band.pixels.size(); ++i)
+        differ += band.pixels[i] != a.pixels[static_cast<std::size_t>(y0) * ow * 3 + i];
+      CHECK(differ == 0);
+    }
+  }
+}
+
+TEST_CASE("upscale_rows: refuses what a band cannot reproduce") {
+  const Image in = textured(40, 60);
+  Image rows(40, 30, 3);
+  std::copy(in.pixels.begin(), in.pixels.begin() + static_cast<std::ptrdiff_t>(rows.pixels.size()), rows.pixels.begin());
+  UpscaleOptions opt;  // the box model: the consistent reconstruction is whole-image
+  CHECK_THROWS_WITH_AS(upscale_rows(rows, 0, 60, 0, 20, 80, 120, opt), doctest::Contains("--model point"), Error);
+  opt.model.kind = AcquisitionModel::Kind::point;
+  opt.region_rows = 4;
+  CHECK_THROWS_WITH_AS(upscale_rows(rows, 0, 60, 0, 30, 80, 120, opt), doctest::Contains("too narrow"), Error);
+  CHECK_THROWS_AS(upscale_rows(rows, 0, 60, 10, 40, 80, 120, opt), Error);  // rows not held
+  // The whole image as one band is upscale() itself, in any model.
+  const Image whole = upscale(in, 80, 120, UpscaleOptions{});
+  const Image band = upscale_rows(in, 0, 60, 0, 60, 80, 120, UpscaleOptions{});
+  CHECK(differing(whole, band) == 0);
 }

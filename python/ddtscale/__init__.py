@@ -1,0 +1,134 @@
+"""ddtscale: enlarge images and volumes by data-dependent triangulation (DDT).
+
+The samples become a heightfield, triangulated (Delaunay, then edge flips
+that lower a cost, so that long thin triangles follow the edges); the
+surface on the mesh is rendered at the new size.
+
+    >>> import numpy as np, ddtscale
+    >>> image = np.zeros((32, 32, 3), np.uint8); image[:, 16:] = 255
+    >>> ddtscale.upscale(image, 4).shape
+    (128, 128, 3)
+
+Functions: upscale (images), upscale_volume (volumes), grid (scattered
+points), and ddtscale.dask.upscale / upscale_files (Dask). Options are the
+command line's (`ddtscale --help`), with '-' written '_'; their defaults
+are in UPSCALE_OPTIONS, VOLUME_OPTIONS and GRID_OPTIONS. Bad input raises
+ValueError with the command line's one-line message (OSError for files,
+TypeError for a value of the wrong type). The work runs without the GIL,
+on all cores unless threads= says otherwise.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Optional, Sequence, Tuple, Union
+
+import numpy as np
+
+from . import _ddtscale
+
+__all__ = ["upscale", "upscale_volume", "grid", "UPSCALE_OPTIONS", "VOLUME_OPTIONS", "GRID_OPTIONS"]
+
+#: The keyword options of upscale() and their defaults (the library's).
+UPSCALE_OPTIONS: dict = dict(_ddtscale.upscale_defaults())
+#: The keyword options of upscale_volume() and their defaults.
+VOLUME_OPTIONS: dict = dict(_ddtscale.volume_defaults())
+#: The keyword options of grid() and their defaults.
+GRID_OPTIONS: dict = dict(_ddtscale.grid_defaults())
+
+
+def _options_doc(defaults: dict) -> str:
+    return "\n".join(f"        {name} = {value!r}" for name, value in defaults.items())
+
+
+def upscale(array: np.ndarray, scale: Optional[float] = None,
+            size: Union[int, Tuple[int, int], None] = None, **options: Any) -> np.ndarray:
+    return _ddtscale.upscale(array, scale, size, options)
+
+
+def upscale_volume(array: np.ndarray, scale: Optional[float] = None,
+                   size: Union[int, Tuple[int, int, int], None] = None, **options: Any) -> np.ndarray:
+    return _ddtscale.upscale_volume(array, scale, size, options)
+
+
+def grid(points: np.ndarray, values: np.ndarray, size: Union[int, Tuple[int, int]],
+         bounds: Optional[Sequence[float]] = None, **options: Any) -> np.ndarray:
+    options["bounds"] = bounds
+    return _ddtscale.grid(points, values, size, options)
+
+
+upscale.__doc__ = f"""Enlarge an image by data-dependent triangulation.
+
+    array   H x W or H x W x C array: uint8 or uint16 (read as 0..1, as image
+            files are), float32 or float64 (as they are). Any strides.
+    scale   magnification, any real > 0 (the output is round(H * scale) x
+            round(W * scale)); or
+    size    (height, width) of the output, or one number for both; or the
+            keywords width= and/or height= (the other follows the aspect).
+
+    Returns an array of the input's dtype and number of dimensions; integer
+    outputs are rounded and clamped, as the command line writes PNG/TIFF.
+
+    Options (the command line's, `ddtscale --help`), with their defaults:
+{_options_doc(UPSCALE_OPTIONS)}
+    alpha_channel: the index of an alpha channel (interpolated, never drives
+    flips); region_rows: rows of the optimizer's parallel regions (0:
+    automatic, -1: one region); compare: a classic method shown left of the
+    result (the output is then both, side by side); mesh: a file to draw the
+    optimized triangulation in (mesh_roi "x,y,w,h" chooses the region).
+
+    Raises ValueError (bad input or option, with the command line's message),
+    TypeError (an option of the wrong type), OSError (the mesh file).
+    A UserWarning says when a large image was tiled and the model was not
+    applied (quiet=True silences it).
+    """
+
+upscale_volume.__doc__ = f"""Enlarge a scalar volume by data-dependent tetrahedrization.
+
+    array   Z x Y x X array (x fastest, as NRRD): an integer type of up to 32
+            bits, float32 or float64; values are kept as stored (no rescaling).
+    scale   magnification on every axis; or
+    size    (z, y, x) of the output, or one number for all three.
+
+    Returns an array of the input's dtype (integers rounded and clamped to
+    the type's range).
+
+    Options (`ddtscale in.nrrd out.nrrd --help`), with their defaults:
+{_options_doc(VOLUME_OPTIONS)}
+    Raises ValueError with the command line's message on bad input.
+    """
+
+grid.__doc__ = f"""Grid scattered points by data-dependent triangulation.
+
+    points  N x 2 array of x, y positions (points at the same position are
+            merged, their values averaged)
+    values  N or N x C array of values
+    size    (height, width) of the grid, or one number for both
+    bounds  (xmin, ymin, xmax, ymax) of the grid's outer edges (default: the
+            points' bounding box); row 0 is the top (ymax), as gdal_grid.
+
+    Returns a height x width (values of one dimension) or height x width x C
+    array (C + 1 with alpha=True), float64 for float64 values, else float32;
+    pixels outside the points' convex hull hold nodata (NaN by default).
+
+    Options (`ddtscale grid --help`), with their defaults:
+{_options_doc(GRID_OPTIONS)}
+    cost_channel: "sum", "luma" or a value channel's index (0-based).
+    Raises ValueError with the command line's message on bad input.
+    """
+
+
+def upscale_file(input: str, output: str, scale: Optional[float] = None,
+                 size: Union[int, Tuple[int, int], None] = None, **options: Any) -> Tuple[int, int]:
+    """Enlarge an image file into another, as `ddtscale input output` does.
+
+    The output's format follows its extension; integer formats keep the
+    input's bit depth, alpha stays alpha. The file is written atomically
+    (never a truncated or clobbered file on failure). Options are those of
+    upscale() but compare and mesh. Returns the output's (height, width).
+    Raises OSError when a file cannot be read or written, ValueError on a
+    bad option.
+    """
+    return tuple(_ddtscale.upscale_file(str(input), str(output), scale, size, options))
+
+
+__all__.append("upscale_file")

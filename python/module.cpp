@@ -1,0 +1,321 @@
+// ddtscale._ddtscale — the compiled half of the Python module: numpy arrays
+// in and out of the library's upscale, upscale_volume and grid_points. The
+// Python package (python/ddtscale/__init__.py) wraps these with docstrings
+// and keyword options; the options are parsed in python/options.cpp.
+// The GIL is released while the library works.
+
+#include "arrays.hpp"
+#include "options.hpp"
+
+#include "classic_resize.hpp"
+#include "comparison.hpp"
+#include "error.hpp"
+#include "image_io.hpp"
+#include "image_mesh.hpp"
+#include "mesh_view.hpp"
+#include "output_size.hpp"
+#include "point_table.hpp"
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <memory>
+#include <thread>
+
+namespace py = pybind11;
+using namespace ddtpy;
+
+namespace {
+
+// Limits the library's threads for one call (0: all cores; more than the
+// cores are not used, as on the command line).
+std::unique_ptr<tbb::global_control> thread_limit(int threads) {
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  if (threads <= 0) return nullptr;
+  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, std::min(threads, cores));
+}
+
+std::function<void(const std::string&)> stderr_log(bool verbose) {
+  if (!verbose) return {};
+  return [](const std::string& line) { std::cerr << line << "\n"; };
+}
+
+void warn(const std::string& message) {
+  if (PyErr_WarnEx(PyExc_UserWarning, message.c_str(), 2) < 0) throw py::error_already_set();
+}
+
+template <class T>
+std::optional<T> optional_arg(const py::object& value, const char* name) {
+  if (value.is_none()) return std::nullopt;
+  try {
+    return value.cast<T>();
+  } catch (const py::cast_error&) {
+    throw py::type_error(std::string(name) + ": expected a number (or numbers), got " +
+                         std::string(py::str(py::type::of(value).attr("__name__"))));
+  }
+}
+
+// A size: one integer for every axis, or a sequence of n (numpy integers too).
+std::vector<int> size_values(const py::object& size, std::size_t n, const char* form) {
+  if (!py::isinstance<py::sequence>(size) || py::isinstance<py::str>(size))
+    return std::vector<int>(n, *optional_arg<int>(size, "size"));
+  const auto values = optional_arg<std::vector<int>>(size, "size");
+  if (values->size() != n) throw ddt::Error(form);
+  return *values;
+}
+
+// size=(height, width) or an int for both; width=/height= as on the command line.
+ddt::SizeRequest size_request(const py::object& scale, const py::object& size, const py::dict& kwargs,
+                              long long max_pixels) {
+  ddt::SizeRequest r;
+  r.scale = optional_arg<double>(scale, "scale");
+  r.max_pixels = max_pixels;
+  if (!size.is_none()) {
+    if (kwargs.contains("width") || kwargs.contains("height"))
+      throw ddt::Error("give either size or width/height, not both");
+    const std::vector<int> hw = size_values(size, 2, "size is (height, width) or one number for both");
+    r.height = hw[0];
+    r.width = hw[1];
+  }
+  if (kwargs.contains("width")) r.width = optional_arg<int>(kwargs["width"], "width");
+  if (kwargs.contains("height")) r.height = optional_arg<int>(kwargs["height"], "height");
+  return r;
+}
+
+// Writes the --mesh view of the call: OSError on any failure of the file.
+void write_mesh(const ImageCall& call, const ddt::Image& image) {
+  try {
+    const std::string& path = *call.mesh;
+    const bool svg = path.size() > 4 && path.substr(path.size() - 4) == ".svg";
+    ddt::check_output_path(path, "", !svg);
+    ddt::PixelRegion roi;
+    const int w = image.width, h = image.height;
+    if (call.mesh_roi) roi = ddt::parse_region(*call.mesh_roi);
+    else if (w > 256 || h > 256) roi = {std::max(0, w / 2 - 64), std::max(0, h / 2 - 64), std::min(w, 128), std::min(h, 128)};
+    ddt::check_region(roi, w, h);
+    ddt::UpscaleOptions plain = call.options, options = call.options;
+    plain.optimize = false;
+    plain.log = options.log = nullptr;
+    const ddt::Mesh2 initial = ddt::image_mesh(image, plain);
+    const ddt::Mesh2 optimized = ddt::image_mesh(image, options);
+    ddt::write_mesh_view(path, optimized, &initial, image, roi);
+  } catch (const ddt::Error& e) {
+    throw std::system_error(std::make_error_code(std::errc::io_error), e.what());
+  }
+}
+
+py::array upscale(const py::array& array, const py::object& scale, const py::object& size, const py::dict& kwargs) {
+  ImageCall call = image_call(kwargs);
+  ImageArray in = image_from_array(array);
+  const ddt::Image& image = in.image;
+  if (call.options.alpha_channel >= image.channels)
+    throw ddt::Error("alpha_channel " + std::to_string(call.options.alpha_channel) + " is not a channel of a " +
+                     std::to_string(image.channels) + "-channel image");
+  if (call.compare) {
+    const auto methods = ddt::classic_methods();
+    if (std::find(methods.begin(), methods.end(), *call.compare) == methods.end())
+      throw ddt::Error("--compare: '" + *call.compare + "' is not a classic method");
+  }
+  int out_w = 0, out_h = 0;
+  ddt::output_size(size_request(scale, size, kwargs, call.max_pixels), image.width, image.height, out_w, out_h);
+  call.options.log = stderr_log(call.verbose);
+  ddt::UpscaleStats stats;
+  ddt::Image out;
+  {
+    py::gil_scoped_release release;
+    const auto limit = thread_limit(call.threads);
+    out = ddt::upscale(image, out_w, out_h, call.options, &stats);
+    if (call.compare) {
+      const ddt::Image classic = ddt::classic_resize(image, out_w, out_h, *call.compare);
+      out = ddt::side_by_side(classic, out, std::max(2, out_w / 256), 0.0f, call.options.alpha_channel);
+    }
+    if (call.mesh) write_mesh(call, image);
+  }
+  if (stats.consistency_skipped && !call.quiet)
+    warn("the image was processed in " + std::to_string(stats.tiles) + " tiles, where --model " + call.model +
+         " is not applied (plain interpolation, --model point)");
+  return array_from_image(out, in.dtype, in.planar);
+}
+
+py::tuple output_size(int in_width, int in_height, const py::object& scale, const py::object& size,
+                      const py::dict& kwargs) {
+  const ImageCall call = image_call(kwargs);
+  int out_w = 0, out_h = 0;
+  ddt::output_size(size_request(scale, size, kwargs, call.max_pixels), in_width, in_height, out_w, out_h);
+  return py::make_tuple(out_h, out_w);
+}
+
+// The command line's single-file run without its extras (--compare, --mesh,
+// progress): read, enlarge, write atomically, keeping the bit depth and alpha.
+// A file that cannot be read or written raises OSError.
+py::tuple upscale_file(const std::string& input, const std::string& output, const py::object& scale,
+                       const py::object& size, const py::dict& kwargs) {
+  ImageCall call = image_call(kwargs);
+  if (call.compare || call.mesh) throw ddt::Error("compare and mesh are not options of upscale_file");
+  const ddt::SizeRequest request = size_request(scale, size, kwargs, call.max_pixels);
+  call.options.log = stderr_log(call.verbose);
+  int out_w = 0, out_h = 0;
+  ddt::UpscaleStats stats;
+  {
+    py::gil_scoped_release release;
+    const auto limit = thread_limit(call.threads);
+    ddt::ImageFile file;
+    try {
+      ddt::check_output_path(output, input);
+      file = ddt::read_image(input);
+    } catch (const ddt::Error& e) {
+      throw std::system_error(std::make_error_code(std::errc::io_error), e.what());
+    }
+    ddt::output_size(request, file.image.width, file.image.height, out_w, out_h);
+    ddt::check_image_writable(output, out_w, out_h, file.image.channels, file.format, file.alpha_channel);
+    call.options.alpha_channel = file.alpha_channel;
+    const ddt::Image out = ddt::upscale(file.image, out_w, out_h, call.options, &stats);
+    try {
+      ddt::write_image(output, out, file.format, file.alpha_channel);
+    } catch (const ddt::Error& e) {
+      throw std::system_error(std::make_error_code(std::errc::io_error), e.what());
+    }
+  }
+  if (stats.consistency_skipped && !call.quiet)
+    warn(input + ": the image was processed in " + std::to_string(stats.tiles) + " tiles, where --model " +
+         call.model + " is not applied (plain interpolation, --model point)");
+  return py::make_tuple(out_h, out_w);
+}
+
+py::array upscale_rows(const py::array& rows, int top, int image_height, int first, int end, int out_width,
+                       int out_height, const py::dict& kwargs) {
+  ImageCall call = image_call(kwargs);
+  ImageArray in = image_from_array(rows);
+  call.options.log = stderr_log(call.verbose);
+  ddt::Image out;
+  {
+    py::gil_scoped_release release;
+    const auto limit = thread_limit(call.threads);
+    out = ddt::upscale_rows(in.image, top, image_height, first, end, out_width, out_height, call.options);
+  }
+  return array_from_image(out, in.dtype, in.planar);
+}
+
+int region_rows(int width, int height, const py::dict& kwargs) {
+  return ddt::optimizer_region_rows(width, height, image_call(kwargs).options);
+}
+
+py::array upscale_volume(const py::array& array, const py::object& scale, const py::object& size,
+                         const py::dict& kwargs) {
+  VolumeCall call = volume_call(kwargs);
+  VolumeArray in = volume_from_array(array);
+  const ddt::Volume& v = in.volume;
+  int out[3] = {0, 0, 0};  // x, y, z
+  const auto factor = optional_arg<double>(scale, "scale");
+  if (factor && !size.is_none()) throw ddt::Error("give either --scale or --size, not both");
+  if (!factor && size.is_none()) throw ddt::Error("give the magnification: --scale S, or --size N or XxYxZ");
+  if (factor) {
+    if (!(*factor > 0) || !std::isfinite(*factor)) throw ddt::Error("--scale must be a positive number");
+    const int in_size[3] = {v.nx, v.ny, v.nz};
+    for (int a = 0; a < 3; ++a) {
+      const double n = std::round(in_size[a] * *factor);
+      if (n > 65536) throw ddt::Error("--scale gives an output larger than --max-voxels");
+      out[a] = static_cast<int>(std::max(1.0, n));
+    }
+  } else {
+    const std::vector<int> zyx = size_values(size, 3, "size is (z, y, x) or one number for all three");
+    out[0] = zyx[2];
+    out[1] = zyx[1];
+    out[2] = zyx[0];
+  }
+  for (int a = 0; a < 3; ++a)
+    if (out[a] < 1 || out[a] > 65536) throw ddt::Error("--size wants sizes between 1 and 65536");
+  const long long voxels = static_cast<long long>(out[0]) * out[1] * out[2];
+  if (voxels > call.max_voxels)
+    throw ddt::Error("output " + std::to_string(out[0]) + "x" + std::to_string(out[1]) + "x" +
+                     std::to_string(out[2]) + " exceeds --max-voxels " + std::to_string(call.max_voxels));
+  call.options.log = stderr_log(call.verbose);
+  ddt::Volume result;
+  {
+    py::gil_scoped_release release;
+    const auto limit = thread_limit(call.threads);
+    result = ddt::upscale_volume(v, out[0], out[1], out[2], call.options);
+  }
+  return array_from_volume(result, in.dtype);
+}
+
+py::array grid(const py::array& points, const py::array& values, const py::object& size, const py::dict& kwargs) {
+  const auto xy = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(points);
+  if (!xy || xy.ndim() != 2 || xy.shape(1) != 2)
+    throw ddt::Error("points is an N x 2 array of x, y positions");
+  const auto v = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(values);
+  if (!v || (v.ndim() != 1 && v.ndim() != 2) || v.shape(0) != xy.shape(0))
+    throw ddt::Error("values is an N or N x C array, one row per point");
+  if (xy.shape(0) == 0) throw ddt::Error("no points");
+  const int channels = v.ndim() == 1 ? 1 : static_cast<int>(v.shape(1));
+  if (channels < 1) throw ddt::Error("values has no channels");
+  GridCall call = grid_call(kwargs, channels);
+  ddt::GridOptions& o = call.options;
+  if (size.is_none()) throw ddt::Error("give the grid's size: size=N or (height, width)");
+  const std::vector<int> hw = size_values(size, 2, "size is (height, width) or one number for both");
+  o.height = hw[0];
+  o.width = hw[1];
+  if (o.width < 1 || o.height < 1) throw ddt::Error("--size: the width and height must be positive");
+  if (static_cast<long long>(o.width) * o.height > call.max_pixels)
+    throw ddt::Error("grid " + std::to_string(o.width) + "x" + std::to_string(o.height) + " exceeds --max-pixels " +
+                     std::to_string(call.max_pixels));
+  ddt::PointTable table;
+  table.channels = channels;
+  const std::size_t n = xy.shape(0);
+  table.points.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    table.points[i] = {xy.data()[2 * i], xy.data()[2 * i + 1]};
+    if (!std::isfinite(table.points[i].x) || !std::isfinite(table.points[i].y))
+      throw ddt::Error("the points hold NaN or infinite coordinates");
+  }
+  table.values.assign(v.data(), v.data() + n * channels);
+  for (const double value : table.values)
+    if (!std::isfinite(value) || std::abs(value) > 3.4e38) throw ddt::Error("the values hold NaN or infinite values");
+  o.log = stderr_log(call.verbose);
+  ddt::Image image;
+  {
+    py::gil_scoped_release release;
+    const auto limit = thread_limit(call.threads);
+    ddt::merge_duplicate_points(table);
+    const std::vector<float> floats(table.values.begin(), table.values.end());
+    image = ddt::grid_points(table.points, floats, channels, o);
+  }
+  const bool planar = v.ndim() == 1 && !o.alpha;
+  const py::dtype dtype = values.dtype().is(py::dtype::of<double>()) ? py::dtype::of<double>() : py::dtype::of<float>();
+  return array_from_image(image, dtype, planar);
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_ddtscale, m) {
+  m.doc() = "The compiled half of ddtscale; use the functions of the ddtscale package.";
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const ddt::Error& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    } catch (const std::system_error& e) {
+      PyErr_SetString(PyExc_OSError, e.what());
+    }
+  });
+  m.def("upscale_defaults", &image_defaults);
+  m.def("volume_defaults", &volume_defaults);
+  m.def("grid_defaults", &grid_defaults);
+  m.def("upscale", &upscale, py::arg("array"), py::arg("scale"), py::arg("size"), py::arg("options"));
+  m.def("output_size", &output_size, py::arg("in_width"), py::arg("in_height"), py::arg("scale"), py::arg("size"),
+        py::arg("options"));
+  m.def("upscale_file", &upscale_file, py::arg("input"), py::arg("output"), py::arg("scale"), py::arg("size"),
+        py::arg("options"));
+  m.def("upscale_rows", &upscale_rows, py::arg("rows"), py::arg("top"), py::arg("image_height"), py::arg("first"),
+        py::arg("end"), py::arg("out_width"), py::arg("out_height"), py::arg("options"));
+  m.def("output_row_of", &ddt::output_row_of, py::arg("y"), py::arg("in_height"), py::arg("out_height"));
+  m.def("band_margin_needed", &ddt::band_margin_needed, py::arg("phases"), py::arg("region_rows"));
+  m.def("region_rows", &region_rows, py::arg("width"), py::arg("height"), py::arg("options"));
+  m.def("upscale_volume", &upscale_volume, py::arg("array"), py::arg("scale"), py::arg("size"), py::arg("options"));
+  m.def("grid", &grid, py::arg("points"), py::arg("values"), py::arg("size"), py::arg("options"));
+}

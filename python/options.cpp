@@ -1,0 +1,249 @@
+#include "options.hpp"
+
+#include "acquisition_model.hpp"
+#include "costs.hpp"
+#include "cubic_surface.hpp"
+#include "error.hpp"
+#include "optimizer_choice.hpp"
+
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <type_traits>
+
+namespace ddtpy {
+namespace {
+
+// Reads one keyword: `get(name, field)` converts it when given.
+class Keywords {
+ public:
+  Keywords(const py::dict& kwargs, const py::dict& defaults) : kwargs_(kwargs) {
+    for (const auto& item : kwargs) {
+      const std::string name = py::str(item.first);
+      if (!defaults.contains(name)) {
+        std::string names;
+        for (const auto& d : defaults) names += (names.empty() ? "" : ", ") + std::string(py::str(d.first));
+        throw ddt::Error("unknown option '" + name + "' (options: " + names + ")");
+      }
+    }
+  }
+  template <class T>
+  bool get(const char* name, T& field) const {
+    if (!kwargs_.contains(name)) return false;
+    const py::handle value = kwargs_[name];
+    if (value.is_none()) return false;
+    try {
+      field = value.cast<T>();
+    } catch (const py::cast_error&) {
+      throw py::type_error(std::string(name) + ": expected " + type_name<T>() + ", got " +
+                           std::string(py::str(py::type::of(value).attr("__name__"))));
+    }
+    return true;
+  }
+
+ private:
+  template <class T>
+  static const char* type_name() {
+    if constexpr (std::is_same_v<T, bool>) return "a bool";
+    else if constexpr (std::is_integral_v<T>) return "an int";
+    else if constexpr (std::is_floating_point_v<T>) return "a number";
+    else return "a str";
+  }
+  const py::dict& kwargs_;
+};
+
+void check_unit_range(double value, const char* option) {
+  if (!(value >= 0.0 && value <= 1.0)) throw ddt::Error(std::string(option) + " must be a number in [0, 1]");
+}
+
+void check_threads(int threads) {
+  if (threads < 0 || threads > 4096) throw ddt::Error("--threads must be in [0, 4096]");
+}
+
+// --optimizer, --seed and the --anneal-* schedule (cli/optimizer_options.cpp).
+void read_optimizer(const Keywords& k, std::string& optimizer, ddt::AnnealOptions& anneal) {
+  k.get("optimizer", optimizer);
+  k.get("seed", anneal.seed);
+  k.get("anneal_t0", anneal.initial_temperature);
+  k.get("anneal_accept", anneal.initial_acceptance);
+  k.get("anneal_cooling", anneal.cooling);
+  k.get("anneal_steps", anneal.temperature_steps);
+  k.get("anneal_moves", anneal.moves_per_edge);
+  ddt::check_optimizer(optimizer, anneal);
+}
+
+void add_optimizer_defaults(py::dict& d, const std::string& optimizer, const ddt::AnnealOptions& anneal) {
+  d["optimizer"] = optimizer;
+  d["seed"] = anneal.seed;
+  d["anneal_t0"] = anneal.initial_temperature;
+  d["anneal_accept"] = anneal.initial_acceptance;
+  d["anneal_cooling"] = anneal.cooling;
+  d["anneal_steps"] = anneal.temperature_steps;
+  d["anneal_moves"] = anneal.moves_per_edge;
+}
+
+}  // namespace
+
+py::dict image_defaults() {
+  const ImageCall c;
+  py::dict d;
+  d["width"] = py::none();
+  d["height"] = py::none();
+  d["cost"] = c.options.cost;
+  d["cost_channel"] = c.options.luma_cost ? "luma" : "sum";
+  d["render"] = c.options.render;
+  d["slopes"] = c.options.slopes;
+  d["model"] = ddt::to_string(c.options.model);
+  d["no_step_edges"] = !c.options.step_edges;
+  d["no_optimize"] = !c.options.optimize;
+  d["tolerance"] = c.options.relative_tolerance;
+  d["max_pixels"] = c.max_pixels;
+  d["compare"] = py::none();
+  d["mesh"] = py::none();
+  d["mesh_roi"] = py::none();
+  add_optimizer_defaults(d, c.options.optimizer, c.options.anneal);
+  d["verbose"] = c.verbose;
+  d["quiet"] = c.quiet;
+  d["threads"] = c.threads;
+  d["tile_rows"] = c.options.tile_rows;
+  // The library's, beyond the command line: an array has no alpha flag.
+  d["alpha_channel"] = c.options.alpha_channel;
+  d["region_rows"] = c.options.region_rows;
+  return d;
+}
+
+ImageCall image_call(const py::dict& kwargs) {
+  const Keywords k(kwargs, image_defaults());
+  ImageCall c;
+  ddt::UpscaleOptions& o = c.options;
+  k.get("cost", o.cost);
+  ddt::find_cost(o.cost);
+  k.get("cost_channel", c.cost_channel);
+  if (c.cost_channel != "sum" && c.cost_channel != "luma")
+    throw ddt::Error("--cost-channel must be sum or luma, not '" + c.cost_channel + "'");
+  o.luma_cost = c.cost_channel == "luma";
+  k.get("render", o.render);
+  ddt::check_render_name(o.render);
+  k.get("slopes", o.slopes);
+  ddt::slope_limiter_by_name(o.slopes);
+  c.model = ddt::to_string(o.model);
+  k.get("model", c.model);
+  o.model = ddt::parse_acquisition_model(c.model);
+  bool no_step_edges = !o.step_edges;
+  k.get("no_step_edges", no_step_edges);
+  o.step_edges = !no_step_edges;
+  bool no_optimize = !o.optimize;
+  k.get("no_optimize", no_optimize);
+  o.optimize = !no_optimize;
+  k.get("tolerance", o.relative_tolerance);
+  check_unit_range(o.relative_tolerance, "--tolerance");
+  k.get("max_pixels", c.max_pixels);
+  if (c.max_pixels <= 0) throw ddt::Error("--max-pixels must be positive");
+  std::string text;
+  if (k.get("compare", text)) c.compare = text;
+  if (k.get("mesh", text)) c.mesh = text;
+  if (k.get("mesh_roi", text)) c.mesh_roi = text;
+  read_optimizer(k, o.optimizer, o.anneal);
+  k.get("verbose", c.verbose);
+  k.get("quiet", c.quiet);
+  k.get("threads", c.threads);
+  check_threads(c.threads);
+  k.get("tile_rows", o.tile_rows);
+  k.get("alpha_channel", o.alpha_channel);
+  k.get("region_rows", o.region_rows);
+  return c;
+}
+
+py::dict volume_defaults() {
+  const VolumeCall c;
+  py::dict d;
+  d["method"] = c.options.method;
+  d["cost"] = c.options.cost;
+  d["tolerance"] = c.options.relative_tolerance;
+  d["max_voxels"] = c.max_voxels;
+  d["verbose"] = c.verbose;
+  d["threads"] = c.threads;
+  return d;
+}
+
+VolumeCall volume_call(const py::dict& kwargs) {
+  const Keywords k(kwargs, volume_defaults());
+  VolumeCall c;
+  k.get("method", c.options.method);
+  const auto& methods = ddt::volume_upscale_methods();
+  if (std::find(methods.begin(), methods.end(), c.options.method) == methods.end())
+    throw ddt::Error("--method must be one of ddt, delaunay, trilinear, tricubic, not '" + c.options.method + "'");
+  k.get("cost", c.options.cost);
+  ddt::find_cost(c.options.cost);
+  k.get("tolerance", c.options.relative_tolerance);
+  check_unit_range(c.options.relative_tolerance, "--tolerance");
+  k.get("max_voxels", c.max_voxels);
+  if (c.max_voxels <= 0) throw ddt::Error("--max-voxels must be positive");
+  k.get("verbose", c.verbose);
+  k.get("threads", c.threads);
+  check_threads(c.threads);
+  return c;
+}
+
+py::dict grid_defaults() {
+  const GridCall c;
+  py::dict d;
+  d["bounds"] = py::none();
+  d["cost"] = c.options.cost;
+  d["cost_channel"] = "sum";
+  d["no_optimize"] = !c.options.optimize;
+  add_optimizer_defaults(d, c.options.optimizer, c.options.anneal);
+  d["tolerance"] = c.options.relative_tolerance;
+  d["nodata"] = c.options.nodata;
+  d["alpha"] = c.options.alpha;
+  d["max_pixels"] = c.max_pixels;
+  d["verbose"] = c.verbose;
+  d["threads"] = c.threads;
+  return d;
+}
+
+GridCall grid_call(const py::dict& kwargs, int channels) {
+  const Keywords k(kwargs, grid_defaults());
+  GridCall c;
+  ddt::GridOptions& o = c.options;
+  if (kwargs.contains("bounds") && !kwargs["bounds"].is_none()) {
+    std::vector<double> b;
+    k.get("bounds", b);
+    if (b.size() != 4) throw ddt::Error("--bounds: give xmin,ymin,xmax,ymax (four numbers)");
+    o.bounds = ddt::GridBounds{b[0], b[1], b[2], b[3]};
+    if (!(b[0] < b[2]) || !(b[1] < b[3])) throw ddt::Error("--bounds: need xmin < xmax and ymin < ymax");
+  }
+  k.get("cost", o.cost);
+  ddt::find_cost(o.cost);
+  const py::object channel =
+      kwargs.contains("cost_channel") ? py::reinterpret_borrow<py::object>(kwargs["cost_channel"]) : py::str("sum");
+  if (py::isinstance<py::str>(channel)) {
+    const std::string name = channel.cast<std::string>();
+    if (name == "sum") o.cost_channel = ddt::cost_channel_sum;
+    else if (name == "luma") o.cost_channel = ddt::cost_channel_luma;
+    else throw ddt::Error("--cost-channel: '" + name + "' is not sum, luma or a channel number");
+  } else {
+    int index = 0;
+    k.get("cost_channel", index);
+    if (index < 0 || index >= channels)
+      throw ddt::Error("--cost-channel " + std::to_string(index) + ": the points have value channels 0.." +
+                       std::to_string(channels - 1));
+    o.cost_channel = index;
+  }
+  bool no_optimize = !o.optimize;
+  k.get("no_optimize", no_optimize);
+  o.optimize = !no_optimize;
+  read_optimizer(k, o.optimizer, o.anneal);
+  k.get("tolerance", o.relative_tolerance);
+  check_unit_range(o.relative_tolerance, "--tolerance");
+  k.get("nodata", o.nodata);
+  k.get("alpha", o.alpha);
+  k.get("max_pixels", c.max_pixels);
+  if (c.max_pixels <= 0) throw ddt::Error("--max-pixels must be positive");
+  k.get("verbose", c.verbose);
+  k.get("threads", c.threads);
+  check_threads(c.threads);
+  return c;
+}
+
+}  // namespace ddtpy

@@ -1,0 +1,59 @@
+#pragma once
+// Keyword options of the Python module (python/module.cpp) -> the library's
+// option structs. Names and defaults are the command line's (`ddtscale
+// --help`, with '-' as '_'); the defaults are read from default-constructed
+// library structs, so they cannot drift from the C++ side.
+//
+// Errors: a bad value throws ddt::Error with the command line's one-line
+// message (ValueError in Python); an unknown name throws ddt::Error naming
+// the accepted ones; a value of the wrong Python type throws
+// pybind11::type_error (TypeError).
+
+#include "gridding.hpp"
+#include "upscale.hpp"
+#include "volume_upscale.hpp"
+
+#include <pybind11/pybind11.h>
+
+#include <optional>
+#include <string>
+
+namespace ddtpy {
+
+namespace py = pybind11;
+
+// What the command line does around ddt::upscale, beyond its options.
+struct ImageCall {
+  ddt::UpscaleOptions options;
+  long long max_pixels = ddt::default_max_pixels;
+  int threads = 0;  // 0: all cores
+  bool verbose = false, quiet = false;
+  std::string cost_channel = "sum";
+  std::string model = "box";
+  std::optional<std::string> compare, mesh, mesh_roi;
+};
+
+struct VolumeCall {
+  ddt::VolumeUpscaleOptions options;
+  long long max_voxels = ddt::default_max_voxels;
+  int threads = 0;
+  bool verbose = false;
+};
+
+struct GridCall {
+  ddt::GridOptions options;
+  long long max_pixels = ddt::default_max_pixels;
+  int threads = 0;
+  bool verbose = false;
+};
+
+// The options and their defaults, as the Python keywords.
+py::dict image_defaults();
+py::dict volume_defaults();
+py::dict grid_defaults();
+
+ImageCall image_call(const py::dict& kwargs);
+VolumeCall volume_call(const py::dict& kwargs);
+GridCall grid_call(const py::dict& kwargs, int channels);
+
+}  // namespace ddtpy
