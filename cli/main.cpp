@@ -3,6 +3,7 @@
 //   ddtscale eval --set DIR ...      (see `ddtscale eval --help`)
 
 #include "commands.hpp"
+#include "whole_number.hpp"
 
 #include "classic_resize.hpp"
 #include "comparison.hpp"
@@ -12,6 +13,7 @@
 #include "image_mesh.hpp"
 #include "mesh_view.hpp"
 #include "progress.hpp"
+#include "size_limits.hpp"
 #include "upscale.hpp"
 
 #include <CLI/CLI.hpp>
@@ -41,6 +43,7 @@ struct Arguments {
   bool no_optimize = false;
   double tolerance = 1e-9;
   long long max_pixels = 1LL << 28;
+  long long max_input_pixels = ddt::default_max_input_pixels();
   bool verbose = false;
   bool quiet = false;
   int threads = 0;    // 0: all cores
@@ -77,9 +80,20 @@ void output_size(const Arguments& args, int in_w, int in_h, int& out_w, int& out
   } else {
     throw ddt::Error("give the magnification: --scale S, or --width W and/or --height H");
   }
-  if (static_cast<long long>(out_w) * out_h > args.max_pixels)
-    throw ddt::Error("output " + std::to_string(out_w) + "x" + std::to_string(out_h) + " exceeds --max-pixels " +
-                     std::to_string(args.max_pixels));
+  ddt::check_size_limit("output", std::to_string(out_w) + "x" + std::to_string(out_h),
+                        ddt::checked_product({out_w, out_h}), args.max_pixels, "--max-pixels");
+}
+
+// The memory the job holds at least, whatever the tiling: the decoded input
+// and the output as floats (with --compare also the classic half and the
+// joined image), and the band being triangulated (about 200 bytes an input
+// pixel, bounded by the tiling to half the physical memory).
+double image_job_bytes(const Arguments& args, const ddt::ImageHeader& header, int out_w, int out_h) {
+  const double in_pixels = double(header.width) * header.height, out_pixels = double(out_w) * out_h;
+  const double images = 4.0 * header.channels * (in_pixels + out_pixels * (args.compare.empty() ? 1 : 4));
+  const bool tiled = args.optimizer == "lawson" && args.tile_rows >= 0;
+  const double band = 200.0 * in_pixels;
+  return images + (tiled ? std::min(band, 0.5 * double(ddt::physical_memory())) : band);
 }
 
 int run_upscale(int argc, char** argv) {
@@ -96,8 +110,10 @@ int run_upscale(int argc, char** argv) {
                  "output image; format from the extension (EXR keeps float, PNG/TIFF keep the input's bit depth)")
       ->required();
   app.add_option("-s,--scale", args.scale, "magnification, any real > 0 (e.g. 10 or 2.5)");
-  app.add_option("-W,--width", args.width, "output width in pixels (height follows the aspect unless given)");
-  app.add_option("-H,--height", args.height, "output height in pixels (width follows the aspect unless given)");
+  app.add_option("-W,--width", args.width, "output width in pixels (height follows the aspect unless given)")
+      ->check(whole_number(1, std::numeric_limits<int>::max()));
+  app.add_option("-H,--height", args.height, "output height in pixels (width follows the aspect unless given)")
+      ->check(whole_number(1, std::numeric_limits<int>::max()));
   app.add_option("--cost", args.cost, "flip cost: " + ddt::cost_names_joined())->capture_default_str();
   app.add_option("--cost-channel", args.cost_channel,
                  "what drives the flips: sum (of per-channel costs) or luma (luminance only)")
@@ -129,7 +145,12 @@ int run_upscale(int argc, char** argv) {
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
   app.add_option("--max-pixels", args.max_pixels, "refuse outputs with more pixels than this")
-      ->check(CLI::PositiveNumber)
+      ->check(whole_number(1))
+      ->capture_default_str();
+  app.add_option("--max-input-pixels", args.max_input_pixels,
+                 "refuse inputs with more pixels than this, from the file's header before decoding (default: "
+                 "the physical memory / 32)")
+      ->check(whole_number(1))
       ->capture_default_str();
   app.add_option("--compare", args.compare,
                  "write one image: this classic method (OpenImageIO filter) on the left, DDT on the right")
@@ -145,10 +166,11 @@ int run_upscale(int argc, char** argv) {
   app.add_flag("-v,--verbose", args.verbose, "report iterations, flips, cost and the time of each stage");
   app.add_flag("-q,--quiet", args.quiet, "print nothing but errors (and no progress bar)");
   app.add_option("--threads", args.threads, "threads to use (default: all cores; more than the cores are not used)")
-      ->check(CLI::Range(0, 4096));
+      ->check(whole_number(0, 4096));
   app.add_option("--tile-rows", args.tile_rows,
                  "process the image in bands of this many input rows (same output; default: only when it would "
-                 "not fit in half the memory; -1: never)");
+                 "not fit in half the memory; -1: never)")
+      ->check(whole_number(-1, std::numeric_limits<int>::max()));
   app.footer(
       "\nCosts (the paper's weighted content, sum over triangles of area * weight):\n"
       "  sederberg       weight = mean over the triangle's edges of |g1||g2| - g1.g2 (default)\n"
@@ -235,16 +257,22 @@ int run_upscale(int argc, char** argv) {
     };
     progress.begin("read");
     auto t0 = std::chrono::steady_clock::now();
-    ddt::ImageFile file = ddt::read_image(args.input);
+    // The whole job is sized from the input's header, before a pixel is
+    // decoded: output size, what the output's format can store, memory.
+    int out_w = 0, out_h = 0, compare_gap = 0;
+    ddt::ImageReadLimits limits;
+    limits.max_pixels = args.max_input_pixels;
+    limits.check = [&](const ddt::ImageHeader& header) {
+      output_size(args, header.width, header.height, out_w, out_h);
+      compare_gap = std::max(2, out_w / 256);
+      const int written_w = args.compare.empty() ? out_w : 2 * out_w + compare_gap;
+      ddt::check_image_writable(args.output, written_w, out_h, header.channels, header.format, header.alpha_channel);
+      if (!args.mesh_view.empty()) ddt::check_region(roi, header.width, header.height);
+      ddt::check_memory_fits("this job", image_job_bytes(args, header, out_w, out_h));
+    };
+    ddt::ImageFile file = ddt::read_image(args.input, limits);
     log("read: " + args.input + ", " + std::to_string(file.image.width) + "x" + std::to_string(file.image.height) +
         "x" + std::to_string(file.image.channels) + ", " + std::to_string(seconds_since(t0)) + " s");
-    int out_w = 0, out_h = 0;
-    output_size(args, file.image.width, file.image.height, out_w, out_h);
-    // What the output's format cannot store is refused now, not after the work.
-    const int compare_gap = std::max(2, out_w / 256);
-    const int written_w = args.compare.empty() ? out_w : 2 * out_w + compare_gap;
-    ddt::check_image_writable(args.output, written_w, out_h, file.image.channels, file.format, file.alpha_channel);
-    if (!args.mesh_view.empty()) ddt::check_region(roi, file.image.width, file.image.height);
 
     ddt::UpscaleOptions options;
     options.cost = args.cost;

@@ -6,6 +6,7 @@
 
 #include <OpenImageIO/filesystem.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <mutex>
@@ -94,10 +95,12 @@ class QuietLibraries {
 
 }  // namespace
 
-ImageFile read_image(const std::string& path) {
+ImageFile read_image(const std::string& path, const ImageReadLimits& limits) {
   check_regular_file(path);
-  const QuietLibraries quiet;
-  auto in = OIIO::ImageInput::open(path);
+  auto in = [&] {
+    const QuietLibraries quiet;
+    return OIIO::ImageInput::open(path);
+  }();
   if (!in) {
     std::string msg = first_line(OIIO::geterror());
     throw Error("cannot read '" + path + "': " + (msg.empty() ? "unsupported or corrupt image" : msg));
@@ -106,6 +109,20 @@ ImageFile read_image(const std::string& path) {
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
     throw Error("cannot read '" + path + "': the image is empty");
   if (spec.depth > 1) throw Error("cannot read '" + path + "': volume images are not 2D images");
+  // The header's claims, before a pixel is decoded (decompression bombs).
+  const std::string input = "input '" + path + "'";
+  check_size_limit(input, std::to_string(spec.width) + "x" + std::to_string(spec.height),
+                   checked_product({spec.width, spec.height}), limits.max_pixels, limits.option);
+  if (spec.tile_width > 0)
+    check_size_limit(input + ": a tile", std::to_string(spec.tile_width) + "x" + std::to_string(spec.tile_height),
+                     checked_product({spec.tile_width, std::max(1, spec.tile_height), std::max(1, spec.tile_depth)}),
+                     limits.max_pixels, limits.option);
+  check_memory_fits("decoding " + input + " (" + std::to_string(spec.width) + "x" + std::to_string(spec.height) + "x" +
+                        std::to_string(spec.nchannels) + ")",
+                    4.0 * spec.width * spec.height * spec.nchannels);
+  if (limits.check)
+    limits.check(ImageHeader{spec.width, spec.height, spec.nchannels, sample_format_of(spec.format), spec.alpha_channel});
+  const QuietLibraries quiet;
   ImageFile file;
   file.format = sample_format_of(spec.format);
   file.alpha_channel = spec.alpha_channel;

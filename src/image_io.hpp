@@ -10,9 +10,11 @@
 
 #include "image.hpp"
 #include "safe_file.hpp"
+#include "size_limits.hpp"
 
 #include <OpenImageIO/imagebuf.h>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -28,8 +30,26 @@ struct ImageFile {
   int alpha_channel = -1;                  // index of alpha, or -1
 };
 
+// What an image file's header says, before any pixel is decoded.
+struct ImageHeader {
+  int width = 0, height = 0, channels = 0;
+  SampleFormat format = SampleFormat::uint8;
+  int alpha_channel = -1;
+};
+
+// Limits on what read_image decodes (size_limits.hpp). The header's size is
+// checked before any pixel is decoded: width x height (and a tile's) against
+// max_pixels, the decoded floats against the memory available; then
+// `check`, when set, sees the header and may throw (the CLI sizes its whole
+// job there: output size, output format, memory).
+struct ImageReadLimits {
+  long long max_pixels = default_max_input_pixels();
+  std::string option = "--max-input-pixels";  // named in the refusal
+  std::function<void(const ImageHeader&)> check;
+};
+
 // Reads any image OpenImageIO reads (first subimage, first MIP level).
-ImageFile read_image(const std::string& path);
+ImageFile read_image(const std::string& path, const ImageReadLimits& limits = {});
 
 // Writes `image` to `path`; the format follows the extension. EXR is written
 // as 32-bit float; integer formats keep `source_format`'s depth (8 or 16 bit,
