@@ -10,6 +10,7 @@ packages=(
   libteem-dev
   libcsv-dev
   libopencv-dev libvips-dev
+  clang libclang-rt-14-dev
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -190,6 +190,11 @@ run_fail_saying "TIFF bomb, 30000^2 pixels, limit" "exceeds --max-input-pixels" 
   --scale 0.1 --max-input-pixels 100000000
 run_fail_saying "TIFF bomb, output from the header" "exceeds --max-pixels" "$work/bomb30k.tif" "$work/o.png" --scale 2 \
   --max-input-pixels 1000000000
+# Past the input limit, the memory: 10^10 pixels need 40 GB decoded (on a
+# machine with more available, OpenImageIO's 32 GB limit or the decode refuses).
+tiff 100000 100000 >"$work/bomb100k.tif"
+run_fail_saying "TIFF bomb, memory" "memory|exceeds|cannot read" "$work/bomb100k.tif" "$work/o.png" --scale 0.01 \
+  --max-input-pixels 100000000000
 printf 'NRRD0004\ntype: uint8\ndimension: 3\nsizes: 4000 4000 4000\nencoding: gzip\ndata file: d.raw.gz\n' >"$work/bomb.nhdr"
 printf '' | gzip >"$work/d.raw.gz"
 run_fail_saying "NRRD bomb" "exceeds --max-input-voxels" "$work/bomb.nhdr" "$work/o.nrrd" --scale 1
