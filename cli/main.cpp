@@ -273,6 +273,9 @@ int run_upscale(int argc, char** argv) {
     ddt::ImageFile file = ddt::read_image(args.input, limits);
     log("read: " + args.input + ", " + std::to_string(file.image.width) + "x" + std::to_string(file.image.height) +
         "x" + std::to_string(file.image.channels) + ", " + std::to_string(seconds_since(t0)) + " s");
+    if (file.pages > 1 && !args.quiet)
+      std::cerr << "ddtscale: warning: '" << args.input << "' holds " << (file.pages > 2 ? std::to_string(file.pages) : "2 or more")
+                << " pages or parts; only the first is enlarged\n";
 
     ddt::UpscaleOptions options;
     options.cost = args.cost;
@@ -316,7 +319,9 @@ int run_upscale(int argc, char** argv) {
 
     t0 = std::chrono::steady_clock::now();
     progress.begin("write");
-    ddt::write_image(args.output, out, file.format, file.alpha_channel);
+    const OIIO::ParamValueList metadata = ddt::scaled_metadata(
+        file.metadata, double(out_w) / file.image.width, double(out_h) / file.image.height);
+    ddt::write_image(args.output, out, file.format, file.alpha_channel, &metadata);
     log("write: " + args.output + ", " + std::to_string(seconds_since(t0)) + " s");
     if (bar) bar->stop();
     if (!args.quiet && !args.verbose)
