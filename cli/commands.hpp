@@ -14,7 +14,8 @@ struct AnnealOptions;
 
 // `ddtscale eval`: the super-resolution evaluation protocol (evaluation.hpp)
 // over an image directory or the synthetic scenes. 0 on success (and for
-// --help), 2 on any error.
+// --help), 1 when the work fails (missing set, corrupt image), 2 on bad
+// arguments.
 int run_eval_command(int argc, char** argv);
 
 // `ddtscale grid`: scattered points (x, y, values) to a regular grid image

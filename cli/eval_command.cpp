@@ -2,6 +2,7 @@
 // prints one table per image, then the means per scale and method.
 
 #include "commands.hpp"
+#include "whole_number.hpp"
 
 #include "costs.hpp"
 #include "error.hpp"
@@ -66,9 +67,11 @@ std::string one_line(std::string s) {
   return s;
 }
 
-int fail(const std::string& message) {
+// Exit statuses: 2 for bad arguments, 1 when the work fails (a missing set,
+// a corrupt image, an unwritable CSV).
+int fail(const std::string& message, int status) {
   std::fprintf(stderr, "ddtscale eval: error: %s\n", one_line(message).c_str());
-  return 2;
+  return status;
 }
 
 // A CSV that cannot be written should stop the run before the work, not after it.
@@ -102,7 +105,10 @@ int run_eval_command(int argc, char** argv) {
   int size = 64;
 
   auto* set_option = app.add_option("--set", set_dir, "Directory of ground-truth images (PNG, JPEG, BMP, TIFF)");
-  app.add_option("--scale", scales, "Integer scales, comma-separated")->delimiter(',')->capture_default_str();
+  app.add_option("--scale", scales, "Integer scales, comma-separated")
+      ->delimiter(',')
+      ->check(whole_number(2, 100))
+      ->capture_default_str();
   std::string method_help = "Methods, comma-separated:";
   for (const auto& name : ddt::eval_method_names()) method_help += " " + name;
   app.add_option("--methods", methods, method_help)->delimiter(',')->capture_default_str();
@@ -125,12 +131,14 @@ int run_eval_command(int argc, char** argv) {
   app.add_option("--optimizer", optimizer, "DDT optimizer of every ddt method: lawson, anneal or lookahead")
       ->check(CLI::IsMember(ddt::optimizer_names()))
       ->capture_default_str();
-  app.add_option("--seed", seed, "seed of --optimizer anneal")->capture_default_str();
+  app.add_option("--seed", seed, "seed of --optimizer anneal")->check(whole_number(0))->capture_default_str();
   app.add_option("--csv", csv_path,
                  "Write every score to this CSV file: image,scale,method,psnr,ssim,seconds (--synthetic adds "
                  "halo,rise_width,wobble,edge_offset,overshoot)");
   auto* synthetic_flag = app.add_flag("--synthetic", synthetic, "Score on the analytic scenes instead of a set");
-  app.add_option("--size", size, "Width and height of the synthetic LR renderings")->capture_default_str();
+  app.add_option("--size", size, "Width and height of the synthetic LR renderings")
+      ->check(whole_number(1, 4096))
+      ->capture_default_str();
   app.add_flag("--quiet", quiet, "No progress lines on stderr");
   set_option->excludes(synthetic_flag);
 
@@ -138,13 +146,12 @@ int run_eval_command(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help
-    return fail(e.what());
+    return fail(e.what(), 2);
   }
 
+  ddt::EvalOptions options;
   try {
     if (!synthetic && set_dir.empty()) throw ddt::Error("give --set DIR or --synthetic");
-    if (!csv_path.empty()) check_csv_path(csv_path);
-
     ddt::UpscaleOptions ddt_options;
     ddt_options.luma_cost = luma_cost;
     ddt_options.slopes = slopes;
@@ -152,10 +159,15 @@ int run_eval_command(int argc, char** argv) {
     ddt_options.step_edges = !no_step_edges;
     ddt_options.optimizer = optimizer;
     ddt_options.anneal.seed = seed;
-    ddt::EvalOptions options;
     options.scales = scales;
     options.methods = ddt::make_eval_methods(methods, costs, ddt_options);
     options.synthetic_size = size;
+  } catch (const std::exception& e) {
+    return fail(e.what(), 2);
+  }
+
+  try {
+    if (!csv_path.empty()) check_csv_path(csv_path);
     if (!quiet)
       options.progress = [](const std::string& name, int index, int count) {
         std::fprintf(stderr, "eval: [%d/%d] %s\n", index + 1, count, name.c_str());
@@ -190,7 +202,7 @@ int run_eval_command(int argc, char** argv) {
 
     if (!csv_path.empty()) ddt::write_eval_csv(csv_path, rows, synthetic);
   } catch (const std::exception& e) {
-    return fail(e.what());
+    return fail(e.what(), 1);
   }
   return 0;
 }

@@ -3,12 +3,14 @@
 // convention and src/point_table.hpp for the input formats.
 
 #include "commands.hpp"
+#include "whole_number.hpp"
 
 #include "costs.hpp"
 #include "error.hpp"
 #include "gridding.hpp"
 #include "image_io.hpp"
 #include "point_table.hpp"
+#include "size_limits.hpp"
 #include "upscale.hpp"
 
 #include <CLI/CLI.hpp>
@@ -128,6 +130,8 @@ int run_grid_command(int argc, char** argv) {
   ddt::AnnealOptions anneal;
   double tolerance = 1e-9;
   long long max_pixels = ddt::default_max_pixels;
+  ddt::PointReadOptions read_options;
+  read_options.float_values = true;
 
   app.add_option("input", input,
                  "points: one per line, x,y,value[,value...] or x y value (CSV with ',' or ';', or blank-separated\n"
@@ -159,7 +163,11 @@ int run_grid_command(int argc, char** argv) {
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
   app.add_option("--max-pixels", max_pixels, "refuse grids with more pixels than this")
-      ->check(CLI::PositiveNumber)
+      ->check(whole_number(1))
+      ->capture_default_str();
+  app.add_option("--max-input-points", read_options.max_points,
+                 "refuse inputs with more points than this (default: the physical memory / 1024)")
+      ->check(whole_number(1))
       ->capture_default_str();
   add_optimizer_options(app, optimizer, anneal);
   app.add_flag("-v,--verbose", verbose, "report points, flips, cost and the time of each stage");
@@ -184,9 +192,8 @@ int run_grid_command(int argc, char** argv) {
     };
     ddt::GridOptions options;
     parse_size(size_text, options.width, options.height);
-    if (static_cast<long long>(options.width) * options.height > max_pixels)
-      throw ddt::Error("grid " + std::to_string(options.width) + "x" + std::to_string(options.height) +
-                       " exceeds --max-pixels " + std::to_string(max_pixels));
+    ddt::check_size_limit("grid", std::to_string(options.width) + "x" + std::to_string(options.height),
+                          ddt::checked_product({options.width, options.height}), max_pixels, "--max-pixels");
     if (!bounds_text.empty()) options.bounds = parse_bounds(bounds_text);
     ddt::find_cost(cost);  // fail fast on a typo
 
@@ -196,8 +203,6 @@ int run_grid_command(int argc, char** argv) {
       throw ddt::Error("output '" + output + "': the grid is written as .exr, .tif/.tiff or .png");
     ddt::check_output_path(output, input);
 
-    ddt::PointReadOptions read_options;
-    read_options.float_values = true;
     if (!columns_text.empty()) read_options.columns = split_commas(columns_text);
     if (!input_nodata_text.empty()) read_options.input_nodata = parse_double(input_nodata_text, "--input-nodata", true);
     if (!nodata_text.empty()) options.nodata = static_cast<float>(parse_double(nodata_text, "--nodata", true));
@@ -208,6 +213,10 @@ int run_grid_command(int argc, char** argv) {
     ddt::PointTable table = ddt::read_point_table(input, read_options);
     const ddt::MergeStats merged = ddt::merge_duplicate_points(table);
     const int C = table.channels;
+    // The rendered surface and the grid written (with its alpha channel),
+    // as floats, and the mesh (about 200 bytes a point).
+    ddt::check_memory_fits("this grid", 4.0 * (2 * C + 1) * options.width * options.height +
+                                            200.0 * double(table.points.size()));
     if (png && C != 1 && C != 3)  // grey or RGB, then alpha: other counts would read as alpha or fail
       throw ddt::Error("a PNG holds 1 or 3 value channels; the points have " + std::to_string(C) +
                        ": write .tif or .exr");

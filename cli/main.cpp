@@ -4,6 +4,7 @@
 
 #include "batch.hpp"
 #include "commands.hpp"
+#include "whole_number.hpp"
 
 #include "classic_resize.hpp"
 #include "comparison.hpp"
@@ -14,6 +15,7 @@
 #include "mesh_view.hpp"
 #include "output_size.hpp"
 #include "progress.hpp"
+#include "size_limits.hpp"
 #include "upscale.hpp"
 
 #include <CLI/CLI.hpp>
@@ -43,6 +45,7 @@ struct Arguments {
   bool no_optimize = false;
   double tolerance = 1e-9;
   long long max_pixels = ddt::default_max_pixels;
+  long long max_input_pixels = ddt::default_max_input_pixels();
   bool verbose = false;
   bool quiet = false;
   int threads = 0;    // 0: all cores
@@ -72,6 +75,18 @@ void output_size(const Arguments& args, int in_w, int in_h, int& out_w, int& out
   ddt::output_size(request, in_w, in_h, out_w, out_h);
 }
 
+// The memory the job holds at least, whatever the tiling: the decoded input
+// and the output as floats (with --compare also the classic half and the
+// joined image), and the band being triangulated (about 200 bytes an input
+// pixel, bounded by the tiling to half the physical memory).
+double image_job_bytes(const Arguments& args, const ddt::ImageHeader& header, int out_w, int out_h) {
+  const double in_pixels = double(header.width) * header.height, out_pixels = double(out_w) * out_h;
+  const double images = 4.0 * header.channels * (in_pixels + out_pixels * (args.compare.empty() ? 1 : 4));
+  const bool tiled = args.optimizer == "lawson" && args.tile_rows >= 0;
+  const double band = 200.0 * in_pixels;
+  return images + (tiled ? std::min(band, 0.5 * double(ddt::physical_memory())) : band);
+}
+
 int run_upscale(int argc, char** argv) {
   Arguments args;
   CLI::App app{"ddtscale: enlarge an image by data-dependent triangulation (DDT).\n"
@@ -89,8 +104,10 @@ int run_upscale(int argc, char** argv) {
   std::vector<std::string> more_inputs;
   app.add_option("more", more_inputs)->group("");
   app.add_option("-s,--scale", args.scale, "magnification, any real > 0 (e.g. 10 or 2.5)");
-  app.add_option("-W,--width", args.width, "output width in pixels (height follows the aspect unless given)");
-  app.add_option("-H,--height", args.height, "output height in pixels (width follows the aspect unless given)");
+  app.add_option("-W,--width", args.width, "output width in pixels (height follows the aspect unless given)")
+      ->check(whole_number(1, std::numeric_limits<int>::max()));
+  app.add_option("-H,--height", args.height, "output height in pixels (width follows the aspect unless given)")
+      ->check(whole_number(1, std::numeric_limits<int>::max()));
   app.add_option("--cost", args.cost, "flip cost: " + ddt::cost_names_joined())->capture_default_str();
   app.add_option("--cost-channel", args.cost_channel,
                  "what drives the flips: sum (of per-channel costs) or luma (luminance only)")
@@ -126,7 +143,12 @@ int run_upscale(int argc, char** argv) {
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
   app.add_option("--max-pixels", args.max_pixels, "refuse outputs with more pixels than this")
-      ->check(CLI::PositiveNumber)
+      ->check(whole_number(1))
+      ->capture_default_str();
+  app.add_option("--max-input-pixels", args.max_input_pixels,
+                 "refuse inputs with more pixels than this, from the file's header before decoding (default: "
+                 "the physical memory / 32)")
+      ->check(whole_number(1))
       ->capture_default_str();
   app.add_option("--compare", args.compare,
                  "write one image: this classic method (OpenImageIO filter) on the left, DDT on the right")
@@ -142,10 +164,11 @@ int run_upscale(int argc, char** argv) {
   app.add_flag("-v,--verbose", args.verbose, "report iterations, flips, cost and the time of each stage");
   app.add_flag("-q,--quiet", args.quiet, "print nothing but errors (and no progress bar)");
   app.add_option("--threads", args.threads, "threads to use (default: all cores; more than the cores are not used)")
-      ->check(CLI::Range(0, 4096));
+      ->check(whole_number(0, 4096));
   app.add_option("--tile-rows", args.tile_rows,
                  "process the image in bands of this many input rows (same output; default: only when it would "
-                 "not fit in half the memory; -1: never)");
+                 "not fit in half the memory; -1: never)")
+      ->check(whole_number(-1, std::numeric_limits<int>::max()));
   add_batch_options(app, batch);
   app.footer(
       "\nCosts (the paper's weighted content, sum over triangles of area * weight):\n"
@@ -244,16 +267,25 @@ int run_upscale(int argc, char** argv) {
     };
     progress.begin("read");
     auto t0 = std::chrono::steady_clock::now();
-    ddt::ImageFile file = ddt::read_image(args.input);
+    // The whole job is sized from the input's header, before a pixel is
+    // decoded: output size, what the output's format can store, memory.
+    int out_w = 0, out_h = 0, compare_gap = 0;
+    ddt::ImageReadLimits limits;
+    limits.max_pixels = args.max_input_pixels;
+    limits.check = [&](const ddt::ImageHeader& header) {
+      output_size(args, header.width, header.height, out_w, out_h);
+      compare_gap = std::max(2, out_w / 256);
+      const int written_w = args.compare.empty() ? out_w : 2 * out_w + compare_gap;
+      ddt::check_image_writable(args.output, written_w, out_h, header.channels, header.format, header.alpha_channel);
+      if (!args.mesh_view.empty()) ddt::check_region(roi, header.width, header.height);
+      ddt::check_memory_fits("this job", image_job_bytes(args, header, out_w, out_h));
+    };
+    ddt::ImageFile file = ddt::read_image(args.input, limits);
     log("read: " + args.input + ", " + std::to_string(file.image.width) + "x" + std::to_string(file.image.height) +
         "x" + std::to_string(file.image.channels) + ", " + std::to_string(seconds_since(t0)) + " s");
-    int out_w = 0, out_h = 0;
-    output_size(args, file.image.width, file.image.height, out_w, out_h);
-    // What the output's format cannot store is refused now, not after the work.
-    const int compare_gap = std::max(2, out_w / 256);
-    const int written_w = args.compare.empty() ? out_w : 2 * out_w + compare_gap;
-    ddt::check_image_writable(args.output, written_w, out_h, file.image.channels, file.format, file.alpha_channel);
-    if (!args.mesh_view.empty()) ddt::check_region(roi, file.image.width, file.image.height);
+    if (file.pages > 1 && !args.quiet)
+      std::cerr << "ddtscale: warning: '" << args.input << "' holds " << (file.pages > 2 ? std::to_string(file.pages) : "2 or more")
+                << " pages or parts; only the first is enlarged\n";
 
     ddt::UpscaleOptions options;
     options.cost = args.cost;
@@ -298,7 +330,9 @@ int run_upscale(int argc, char** argv) {
 
     t0 = std::chrono::steady_clock::now();
     progress.begin("write");
-    ddt::write_image(args.output, out, file.format, file.alpha_channel);
+    const OIIO::ParamValueList metadata = ddt::scaled_metadata(
+        file.metadata, double(out_w) / file.image.width, double(out_h) / file.image.height);
+    ddt::write_image(args.output, out, file.format, file.alpha_channel, &metadata);
     log("write: " + args.output + ", " + std::to_string(seconds_since(t0)) + " s");
     if (bar) bar->stop();
     if (!args.quiet && !args.verbose)

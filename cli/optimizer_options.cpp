@@ -1,4 +1,5 @@
 #include "commands.hpp"
+#include "whole_number.hpp"
 
 #include "annealing.hpp"
 
@@ -14,6 +15,7 @@ void add_optimizer_options(CLI::App& app, std::string& optimizer, ddt::AnnealOpt
       ->check(CLI::IsMember(ddt::optimizer_names()))
       ->capture_default_str();
   app.add_option("--seed", anneal.seed, "anneal: seed of the random moves (same seed, same result)")
+      ->check(whole_number(0))
       ->capture_default_str();
   app.add_option("--anneal-t0", anneal.initial_temperature,
                  "anneal: initial temperature in cost units; 0 = automatic (see --anneal-accept)")
@@ -39,7 +41,7 @@ void add_optimizer_options(CLI::App& app, std::string& optimizer, ddt::AnnealOpt
       ->check(open_unit_interval)
       ->capture_default_str();
   app.add_option("--anneal-steps", anneal.temperature_steps, "anneal: number of temperature steps")
-      ->check(CLI::NonNegativeNumber)
+      ->check(whole_number(0, std::numeric_limits<int>::max()))
       ->capture_default_str();
   app.add_option("--anneal-moves", anneal.moves_per_edge,
                  "anneal: random flip proposals per interior edge at each temperature")

@@ -4,10 +4,12 @@
 //   ddtscale volume-field NAME out.nrrd [--size 32]
 
 #include "commands.hpp"
+#include "whole_number.hpp"
 
 #include "costs.hpp"
 #include "error.hpp"
 #include "image_io.hpp"
+#include "size_limits.hpp"
 #include "volume_experiments.hpp"
 #include "volume_fields.hpp"
 #include "volume_io.hpp"
@@ -65,6 +67,15 @@ int fail(const char* who, const std::exception& e) {
   return 1;
 }
 
+// The memory the job holds at least: the input and the output as floats
+// (8 bytes an output voxel with the stored copy and the ownership count),
+// one more output per --compare method, and for the mesh methods the
+// tetrahedralization (about 0.5 KB an input voxel, docs/volumes.md).
+double volume_job_bytes(const std::string& method, std::size_t compares, double in_voxels, double out_voxels) {
+  const bool mesh = method == "ddt" || method == "delaunay";
+  return 4.0 * in_voxels + 8.0 * out_voxels * double(1 + compares) + (mesh ? 512.0 * in_voxels : 0.0);
+}
+
 int run_volume_upscale(int argc, char** argv) {
   std::string input, output, size_spec, method = "ddt", cost = "variance", picture, type = "same",
                                         encoding = "same";
@@ -105,7 +116,12 @@ int run_volume_upscale(int argc, char** argv) {
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
   app.add_option("--max-voxels", max_voxels, "refuse outputs with more voxels than this")
-      ->check(CLI::PositiveNumber)
+      ->check(whole_number(1))
+      ->capture_default_str();
+  app.add_option("--max-input-voxels", read_options.max_voxels,
+                 "refuse inputs with more voxels than this, from the header before reading the data (default: "
+                 "the physical memory / 1024)")
+      ->check(whole_number(1))
       ->capture_default_str();
   app.add_flag("-v,--verbose", verbose,
                "report stages, flips of each kind per iteration, cost, times and peak memory");
@@ -152,26 +168,31 @@ int run_volume_upscale(int argc, char** argv) {
     auto log = [&](const std::string& line) {
       if (verbose) std::cerr << line << "\n";
     };
+    // The whole job is sized from the input's header, before its data is
+    // read: output size and memory.
+    int out[3] = {0, 0, 0};
+    read_options.check = [&](int nx, int ny, int nz) {
+      if (scale != 0) {
+        const int in[3] = {nx, ny, nz};
+        for (int a = 0; a < 3; ++a) {
+          const double n = std::round(in[a] * scale);
+          if (n > 65536) throw ddt::Error("--scale gives an output larger than --max-voxels");
+          out[a] = static_cast<int>(std::max(1.0, n));
+        }
+      } else {
+        parse_size(size_spec, out);
+      }
+      ddt::check_size_limit("output", std::to_string(out[0]) + "x" + std::to_string(out[1]) + "x" +
+                                          std::to_string(out[2]),
+                            ddt::checked_product({out[0], out[1], out[2]}), max_voxels, "--max-voxels");
+      ddt::check_memory_fits("this job", volume_job_bytes(method, compare.size(), double(nx) * ny * nz,
+                                                          double(out[0]) * out[1] * out[2]));
+    };
     auto t0 = std::chrono::steady_clock::now();
     const ddt::VolumeFile file = ddt::read_volume(input, read_options);
     const ddt::Volume& src = file.volume;
     log("read: " + input + ", " + size_text(src) + ", " + ddt::sample_type_name(file.type) + ", " +
         ddt::encoding_name(file.encoding) + ", " + std::to_string(seconds_since(t0)) + " s");
-    int out[3] = {0, 0, 0};
-    if (scale != 0) {
-      const int in[3] = {src.nx, src.ny, src.nz};
-      for (int a = 0; a < 3; ++a) {
-        const double n = std::round(in[a] * scale);
-        if (n > 65536) throw ddt::Error("--scale gives an output larger than --max-voxels");
-        out[a] = static_cast<int>(std::max(1.0, n));
-      }
-    } else {
-      parse_size(size_spec, out);
-    }
-    const long long voxels = static_cast<long long>(out[0]) * out[1] * out[2];
-    if (voxels > max_voxels)
-      throw ddt::Error("output " + std::to_string(out[0]) + "x" + std::to_string(out[1]) + "x" +
-                       std::to_string(out[2]) + " exceeds --max-voxels " + std::to_string(max_voxels));
 
     const ddt::VolumeSampleType out_type = same_type ? file.type : forced_type;
     const ddt::VolumeEncoding out_encoding = same_encoding ? file.encoding : forced_encoding;
@@ -245,8 +266,8 @@ int run_volume_eval(int argc, char** argv) {
                "enlarged by SCALE with each method and scored against the field sampled at the high\n"
                "resolution (RMSE, PSNR with peak 1). Prints a Markdown table.",
                "ddtscale volume-eval"};
-  app.add_option("--size", options.size, "input size (a cube)")->capture_default_str()->check(CLI::Range(2, 512));
-  app.add_option("--scale", options.scale, "integer magnification")->capture_default_str()->check(CLI::Range(1, 16));
+  app.add_option("--size", options.size, "input size (a cube)")->capture_default_str()->check(whole_number(2, 512));
+  app.add_option("--scale", options.scale, "integer magnification")->capture_default_str()->check(whole_number(1, 16));
   app.add_option("--fields", fields, "fields (comma-separated): sphere, hydrogen")->delimiter(',');
   app.add_option("--methods", methods,
                  "methods (comma-separated): trilinear, tricubic, delaunay, ddt:COST (ddt = ddt:variance)")
@@ -255,8 +276,11 @@ int run_volume_eval(int argc, char** argv) {
   app.add_option("--picture-methods", picture_methods, "the columns after the reference in the pictures")
       ->delimiter(',');
   app.add_option("--table", table, "also write the Markdown table to this file");
-  app.add_option("--input-ss", options.input_ss, "point samples per axis per input voxel")->capture_default_str();
+  app.add_option("--input-ss", options.input_ss, "point samples per axis per input voxel")
+      ->check(whole_number(1, 64))
+      ->capture_default_str();
   app.add_option("--reference-ss", options.reference_ss, "point samples per axis per reference voxel")
+      ->check(whole_number(1, 64))
       ->capture_default_str();
   app.add_flag("-q,--quiet", quiet, "print only the table");
   try {
@@ -298,7 +322,7 @@ int run_volume_field(int argc, char** argv) {
   app.add_option("name", name, "field name (see --list)");
   app.add_option("output", output, "output volume (.nrrd or .nhdr)");
   app.add_option("--size", size_spec, "N (a cube) or XxYxZ voxels")->capture_default_str();
-  app.add_option("--supersample", ss, "point samples per axis per voxel")->capture_default_str()->check(CLI::Range(1, 64));
+  app.add_option("--supersample", ss, "point samples per axis per voxel")->capture_default_str()->check(whole_number(1, 64));
   app.add_option("--type", type, "sample type: uint8, uint16, float32, ...")->capture_default_str();
   app.add_option("--encoding", encoding, "raw, gzip, ...")->capture_default_str();
   app.add_flag("--list", list, "list the fields and exit");

@@ -99,6 +99,60 @@ void hull_spans(const Mesh2& mesh, const RenderGrid& grid, double tol, std::vect
   }
 }
 
+// The triangulation and the render compute with sums and differences of
+// coordinates: an extent (of the points and the bounds, on either axis)
+// past max_extent overflows them (0..1e308 rendered every pixel 0). The
+// flips' costs multiply two coordinate differences (areas, gradients): past
+// max_flip_extent, or below its inverse, those overflow or underflow and the
+// flips go wrong without a sign (measured: a Halton set scaled by 1e155 or
+// 1e-160 flips otherwise than at scale 1). Such input is refused rather than
+// gridded wrongly. Offsets are free: 1e300 plus a 1e290 extent grids as 0
+// plus 1 does, to rounding.
+constexpr double max_extent = 1e307, max_flip_extent = 1e150;
+
+void check_representable(const std::vector<Point2>& points, const GridBounds& b, bool optimize) {
+  const GridBounds box = bounding_box(points);
+  const double extent_x = std::max(b.xmax, box.xmax) - std::min(b.xmin, box.xmin);
+  const double extent_y = std::max(b.ymax, box.ymax) - std::min(b.ymin, box.ymin);
+  char line[240];
+  if (!(extent_x <= max_extent) || !(extent_y <= max_extent)) {
+    std::snprintf(line, sizeof line,
+                  "the points and bounds span %.3g by %.3g, beyond the %.0e that double precision can grid "
+                  "(shift or scale the coordinates)",
+                  extent_x, extent_y, max_extent);
+    throw Error(line);
+  }
+  if (!optimize) return;
+  for (const double extent : {box.xmax - box.xmin, box.ymax - box.ymin})
+    if (extent > max_flip_extent || (extent > 0 && extent < 1 / max_flip_extent)) {
+      std::snprintf(line, sizeof line,
+                    "the points span %.3g by %.3g: the flips' costs need spans within %.0e..%.0e in double "
+                    "precision (scale the coordinates, or grid without flips)",
+                    box.xmax - box.xmin, box.ymax - box.ymin, 1 / max_flip_extent, max_flip_extent);
+      throw Error(line);
+    }
+}
+
+// Inside the hull every grid value is a convex combination of the point
+// values (the linear surface and the nearest hull point), so it lies within
+// their range, channel by channel; a value outside it is an arithmetic
+// failure, and the grid is refused instead of written.
+void check_within_values(const Image& out, const std::vector<float>& values, int C, const std::vector<int>& first,
+                         const std::vector<int>& last) {
+  for (int c = 0; c < C; ++c) {
+    float lo = INFINITY, hi = -INFINITY;
+    for (std::size_t i = c; i < values.size(); i += C) lo = std::min(lo, values[i]), hi = std::max(hi, values[i]);
+    const float slack = 1e-5f * std::max(1.0f, std::max(std::abs(lo), std::abs(hi)));
+    for (int y = 0; y < out.height; ++y)
+      for (int x = first[y]; x <= last[y]; ++x) {
+        const float v = out.pixels[out.index(x, y) + c];
+        if (!(v >= lo - slack && v <= hi + slack))
+          throw Error("the grid could not be computed: the value at pixel (" + std::to_string(x) + ", " +
+                      std::to_string(y) + ") leaves the range of the points' values (numeric overflow)");
+      }
+  }
+}
+
 }  // namespace
 
 GridBounds bounding_box(const std::vector<Point2>& points) {
@@ -130,6 +184,7 @@ Image grid_points(const std::vector<Point2>& points, const std::vector<float>& v
       throw Error("the bounds must be finite numbers");
     if (!(b.xmin < b.xmax) || !(b.ymin < b.ymax)) throw Error("the bounds need xmin < xmax and ymin < ymax");
   }
+  check_representable(points, b, options.optimize);
   local.bounds = b;
 
   // Mirror y (exact) so that the rasterizer's rows, which run toward
@@ -203,6 +258,7 @@ Image grid_points(const std::vector<Point2>& points, const std::vector<float>& v
     }
     local.inside_pixels += std::max(0, last[y] - first[y] + 1);
   }
+  check_within_values(out, values, C, first, last);
   local.nodata_pixels = static_cast<long long>(out.pixel_count()) - local.inside_pixels;
   local.seconds_render = seconds_since(t0);
   char line[200];

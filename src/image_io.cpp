@@ -2,10 +2,12 @@
 
 #include "error.hpp"
 
+#include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 
 #include <OpenImageIO/filesystem.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <mutex>
@@ -92,12 +94,47 @@ class QuietLibraries {
   static inline int saved_ = -1;
 };
 
+// Attributes of an input carried to the output (ImageFile::metadata); the
+// rest describe the file's encoding (compression, planar layout, plugin
+// state) and are the writer's to choose.
+bool carried(const std::string& name) {
+  for (const char* exact : {"ICCProfile", "Orientation", "XResolution", "YResolution", "ResolutionUnit", "Artist",
+                            "Copyright", "ImageDescription", "DateTime", "Make", "Model", "DocumentName"})
+    if (name == exact) return true;
+  for (const char* prefix : {"Exif:", "GPS:", "IPTC:"})
+    if (name.rfind(prefix, 0) == 0) return true;
+  return false;
+}
+
 }  // namespace
 
-ImageFile read_image(const std::string& path) {
+OIIO::ParamValueList scaled_metadata(const OIIO::ParamValueList& metadata, double scale_x, double scale_y) {
+  OIIO::ParamValueList out;
+  for (const OIIO::ParamValue& p : metadata) {
+    const std::string name = p.name().string();
+    if (name == "Exif:PixelXDimension" || name == "Exif:PixelYDimension") continue;
+    if ((name == "XResolution" || name == "YResolution") && p.type() == OIIO::TypeDesc::FLOAT) {
+      const float resolution = p.get_float() * static_cast<float>(name == "XResolution" ? scale_x : scale_y);
+      out.attribute(name, resolution);
+      continue;
+    }
+    out.push_back(p);
+  }
+  return out;
+}
+
+ImageFile read_image(const std::string& path, const ImageReadLimits& limits) {
   check_regular_file(path);
-  const QuietLibraries quiet;
-  auto in = OIIO::ImageInput::open(path);
+  // OpenEXR 3.1's C++ header reader sizes a string attribute from the file
+  // and allocates it before reading it: a 405-byte file (found by
+  // fuzz/fuzz_image) took 2 GB and 4 s to refuse. Its core C library checks
+  // attribute sizes against the file and refuses it at once.
+  static const bool exr_core = OIIO::attribute("openexr:core", 1);
+  (void)exr_core;
+  auto in = [&] {
+    const QuietLibraries quiet;
+    return OIIO::ImageInput::open(path);
+  }();
   if (!in) {
     std::string msg = first_line(OIIO::geterror());
     throw Error("cannot read '" + path + "': " + (msg.empty() ? "unsupported or corrupt image" : msg));
@@ -106,7 +143,23 @@ ImageFile read_image(const std::string& path) {
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
     throw Error("cannot read '" + path + "': the image is empty");
   if (spec.depth > 1) throw Error("cannot read '" + path + "': volume images are not 2D images");
+  // The header's claims, before a pixel is decoded (decompression bombs).
+  const std::string input = "input '" + path + "'";
+  check_size_limit(input, std::to_string(spec.width) + "x" + std::to_string(spec.height),
+                   checked_product({spec.width, spec.height}), limits.max_pixels, limits.option);
+  if (spec.tile_width > 0)
+    check_size_limit(input + ": a tile", std::to_string(spec.tile_width) + "x" + std::to_string(spec.tile_height),
+                     checked_product({spec.tile_width, std::max(1, spec.tile_height), std::max(1, spec.tile_depth)}),
+                     limits.max_pixels, limits.option);
+  check_memory_fits("decoding " + input + " (" + std::to_string(spec.width) + "x" + std::to_string(spec.height) + "x" +
+                        std::to_string(spec.nchannels) + ")",
+                    4.0 * spec.width * spec.height * spec.nchannels);
+  if (limits.check)
+    limits.check(ImageHeader{spec.width, spec.height, spec.nchannels, sample_format_of(spec.format), spec.alpha_channel});
+  const QuietLibraries quiet;
   ImageFile file;
+  for (const OIIO::ParamValue& p : spec.extra_attribs)
+    if (carried(p.name().string())) file.metadata.push_back(p);
   file.format = sample_format_of(spec.format);
   file.alpha_channel = spec.alpha_channel;
   if (spec.alpha_channel >= 0) file.alpha_name = spec.channelnames[spec.alpha_channel];
@@ -122,6 +175,9 @@ ImageFile read_image(const std::string& path) {
     throw Error("cannot read '" + path + "': " + damage);
   for (float v : file.image.pixels)
     if (!std::isfinite(v)) throw Error("cannot read '" + path + "': the image holds NaN or infinite samples");
+  // Further pages or parts, counted last: seeking changes in->spec().
+  file.pages = in->spec().get_int_attribute("oiio:subimages", 0);
+  if (file.pages < 1) file.pages = in->seek_subimage(1, 0) ? 2 : 1;
   return file;
 }
 
@@ -228,14 +284,58 @@ void check_image_writable(const std::string& path, int width, int height, int ch
   out.reset();  // close: a few bytes of header into `scratch`
 }
 
-void write_image(const std::string& path, const Image& image, SampleFormat source_format, int alpha_channel) {
+void write_image(const std::string& path, const Image& image, SampleFormat source_format, int alpha_channel,
+                 const OIIO::ParamValueList* metadata) {
   if (image.empty()) throw Error("cannot write '" + path + "': the image is empty");
-  check_image_writable(path, image.width, image.height, image.channels, source_format, alpha_channel);
   auto out = OIIO::ImageOutput::create(path);
   if (!out) throw Error("cannot write '" + path + "': no image format for extension '" +
                         fs::path(path).extension().string() + "'");
-  const OIIO::ImageSpec spec =
+  // The EXIF orientation: JPEG and TIFF carry the tag, which viewers honour;
+  // for the other formats (PNG has none in OpenImageIO 2.4's writer) it is
+  // applied to the pixels, so a portrait photograph stays upright.
+  int turn = 1;
+  if (metadata)
+    if (const auto found = metadata->find("Orientation", OIIO::TypeUnknown, false); found != metadata->cend())
+      turn = found->get_int();
+  if (turn > 1 && turn <= 8 && out->format_name() != std::string("jpeg") && out->format_name() != std::string("tiff")) {
+    OIIO::ImageBuf buf = buf_from_image(image);
+    buf.specmod().attribute("Orientation", turn);
+    OIIO::ParamValueList upright = *metadata;
+    upright.remove("Orientation");
+    write_image(path, image_from_buf(OIIO::ImageBufAlgo::reorient(buf)), source_format, alpha_channel, &upright);
+    return;
+  }
+  // libpng refuses an ICC profile it judges malformed (and with it the
+  // whole file): the image is then written without the profile.
+  if (out->format_name() == std::string("png") && metadata && metadata->contains("ICCProfile") &&
+      !metadata->contains("ddtscale:icc_checked")) {
+    try {
+      OIIO::ParamValueList checked = *metadata;
+      checked.attribute("ddtscale:icc_checked", 1);
+      write_image(path, image, source_format, alpha_channel, &checked);
+      return;
+    } catch (const Error& e) {
+      if (std::string(e.what()).find("profile") == std::string::npos) throw;
+    }
+    OIIO::ParamValueList without = *metadata;
+    without.remove("ICCProfile");
+    write_image(path, image, source_format, alpha_channel, &without);
+    return;
+  }
+  check_image_writable(path, image.width, image.height, image.channels, source_format, alpha_channel);
+  OIIO::ImageSpec spec =
       output_spec(path, image.width, image.height, image.channels, source_format, alpha_channel, *out);
+  // OpenImageIO 2.4's TIFF writer, through an IOProxy (as here), writes a
+  // file without its ImageLength tag when EXIF or GPS tags are given (they go
+  // to a sub-directory): those are left out of TIFF outputs.
+  const bool tiff = std::string(out->format_name()) == "tiff";
+  if (metadata)
+    for (const OIIO::ParamValue& p : *metadata) {
+      const std::string name = p.name().string();
+      if (tiff && (name.rfind("Exif:", 0) == 0 || name.rfind("GPS:", 0) == 0)) continue;
+      if (name.rfind("ddtscale:", 0) == 0) continue;
+      spec.extra_attribs.add_or_replace(p);
+    }
 
   StagedOutput stage(path);
   const std::string name = stage.target().filename().string();

@@ -10,9 +10,11 @@
 
 #include "image.hpp"
 #include "safe_file.hpp"
+#include "size_limits.hpp"
 
 #include <OpenImageIO/imagebuf.h>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -26,16 +28,48 @@ struct ImageFile {
   SampleFormat format = SampleFormat::uint8;
   std::string alpha_name;                  // empty when there is no alpha channel
   int alpha_channel = -1;                  // index of alpha, or -1
+  // What the file says beside its pixels that a photographer expects kept:
+  // the ICC profile, EXIF (the orientation included: the pixels are read as
+  // stored, so the output carries the same tag and displays the same way),
+  // GPS and IPTC tags, resolution, camera, author and copyright.
+  OIIO::ParamValueList metadata;
+  int pages = 1;                           // subimages (TIFF pages, EXR parts); only the first is read
+};
+
+// What an image file's header says, before any pixel is decoded.
+struct ImageHeader {
+  int width = 0, height = 0, channels = 0;
+  SampleFormat format = SampleFormat::uint8;
+  int alpha_channel = -1;
+};
+
+// Limits on what read_image decodes (size_limits.hpp). The header's size is
+// checked before any pixel is decoded: width x height (and a tile's) against
+// max_pixels, the decoded floats against the memory available; then
+// `check`, when set, sees the header and may throw (the CLI sizes its whole
+// job there: output size, output format, memory).
+struct ImageReadLimits {
+  long long max_pixels = default_max_input_pixels();
+  std::string option = "--max-input-pixels";  // named in the refusal
+  std::function<void(const ImageHeader&)> check;
 };
 
 // Reads any image OpenImageIO reads (first subimage, first MIP level).
-ImageFile read_image(const std::string& path);
+ImageFile read_image(const std::string& path, const ImageReadLimits& limits = {});
 
 // Writes `image` to `path`; the format follows the extension. EXR is written
 // as 32-bit float; integer formats keep `source_format`'s depth (8 or 16 bit,
 // float sources become 16 bit), rounded and clamped to 0..1.
+// metadata, when given, is written with the image where the format stores
+// it (ImageFile::metadata, through scaled_metadata).
 void write_image(const std::string& path, const Image& image,
-                 SampleFormat source_format, int alpha_channel = -1);
+                 SampleFormat source_format, int alpha_channel = -1,
+                 const OIIO::ParamValueList* metadata = nullptr);
+
+// `metadata` for an image scale_x x scale_y times the size it was read at:
+// the resolution (pixels per unit) scaled so the printed size stays, the
+// EXIF pixel dimensions dropped (the file's own size says it).
+OIIO::ParamValueList scaled_metadata(const OIIO::ParamValueList& metadata, double scale_x, double scale_y);
 
 // write_file_atomically(path, bytes), for text outputs such as SVG and CSV,
 // is declared in safe_file.hpp.

@@ -1,6 +1,7 @@
 #include "output_size.hpp"
 
 #include "error.hpp"
+#include "size_limits.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -29,9 +30,8 @@ void output_size(const SizeRequest& request, int in_w, int in_h, int& out_w, int
   } else {
     throw Error("give the magnification: --scale S, or --width W and/or --height H");
   }
-  if (static_cast<long long>(out_w) * out_h > request.max_pixels)
-    throw Error("output " + std::to_string(out_w) + "x" + std::to_string(out_h) + " exceeds --max-pixels " +
-                std::to_string(request.max_pixels));
+  check_size_limit("output", std::to_string(out_w) + "x" + std::to_string(out_h), checked_product({out_w, out_h}),
+                   request.max_pixels, "--max-pixels");
 }
 
 }  // namespace ddt

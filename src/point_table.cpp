@@ -264,6 +264,8 @@ PointTable parse_point_table(std::istream& in, const std::string& name, const Po
       ++table.dropped_nodata;
       continue;
     }
+    if (static_cast<long long>(table.points.size()) >= options.max_points)
+      throw Error(where() + "more than " + std::to_string(options.max_points) + " points (" + options.option + ")");
     table.points.push_back({row[0], row[1]});
     table.values.insert(table.values.end(), row.begin() + 2, row.end());
   }

@@ -32,6 +32,7 @@
 // still be finite.
 
 #include "mesh.hpp"
+#include "size_limits.hpp"
 
 #include <istream>
 #include <optional>
@@ -44,6 +45,10 @@ struct PointReadOptions {
   std::vector<std::string> columns;     // empty: x, y, then every other column as values
   std::optional<double> input_nodata;   // drop points with this value (may be NaN)
   bool float_values = false;            // values must fit a 32-bit float (else an error naming the line)
+  // More points than this are refused at the line that passes it, named
+  // `option` in the message (size_limits.hpp).
+  long long max_points = default_max_input_points();
+  std::string option = "--max-input-points";
 };
 
 struct PointTable {

@@ -9,6 +9,7 @@
 #include "optimizer_choice.hpp"
 #include "optimizer.hpp"
 #include "rasterizer.hpp"
+#include "size_limits.hpp"
 #include "triangulation.hpp"
 
 #include <OpenImageIO/imagebufalgo.h>
@@ -18,7 +19,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <unistd.h>
 
 namespace ddt {
 namespace {
@@ -46,11 +46,6 @@ std::vector<float> gradients_of(const Image& img, SlopeLimiter limiter) {
               g.begin() + static_cast<std::ptrdiff_t>(2 * row_floats * y0));
   });
   return g;
-}
-
-long long physical_memory() {
-  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
-  return pages > 0 && page > 0 ? static_cast<long long>(pages) * page : 8LL << 30;
 }
 
 // The first output row whose sample lies at or below input row y (its

@@ -2,15 +2,20 @@
 
 #include "error.hpp"
 #include "safe_file.hpp"
+#include "size_limits.hpp"
 
 #include <teem/nrrd.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <limits>
+#include <sstream>
 #include <system_error>
 #include <unistd.h>
 #include <vector>
@@ -107,10 +112,103 @@ bool single_int_conversion(const std::string& format) {
   return conversions == 1;
 }
 
-// The files a NRRD header names as its data (empty when the data is
-// attached), each as a path usable from here. Reads the header only.
-// Throws when a name leaves the header's directory and !any_data_path.
+// What a NRRD header says, read without its data.
+struct HeaderInfo {
+  std::vector<std::string> data_files;  // empty when the data is attached; paths usable from here
+  std::vector<std::size_t> sizes;       // of every axis
+  std::size_t sample_bytes = 0;         // of one stored sample
+};
+
+// The names a pattern "data file: <format> <min> <max> <step>" expands to.
+std::vector<std::string> expand_pattern(const std::string& path, const std::string& format, long long min,
+                                        long long max, long long step) {
+  if (!single_int_conversion(format))
+    throw Error("cannot read '" + path + "': unsupported data file pattern '" + format + "'");
+  if (step == 0) throw Error("cannot read '" + path + "': data file pattern with step 0");
+  std::vector<std::string> names;
+  for (long long i = min; step > 0 ? i <= max : i >= max; i += step) {
+    if (names.size() >= 100000) throw Error("cannot read '" + path + "': too many data files");
+    char name[4096];
+    std::snprintf(name, sizeof name, format.c_str(), static_cast<int>(i));
+    names.push_back(name);
+  }
+  return names;
+}
+
+// The data file names of a NRRD header, from its text. Teem opens a
+// detached header's data files while it parses the header, even when told
+// to skip the data, so a FIFO named there would block it before we could
+// look: the names are read here first (the "data file" or "datafile" field:
+// one name, a pattern, or LIST and one name a line to the end of the file).
+std::vector<std::string> data_file_names(const std::string& path) {
+  constexpr std::size_t max_header_bytes = 1 << 20;
+  std::ifstream in(path, std::ios::binary);
+  std::vector<std::string> lines;
+  std::string line;
+  std::size_t bytes = 0;
+  bool list = false;
+  for (int c; (c = in.get()) != std::char_traits<char>::eof();) {
+    if (++bytes > max_header_bytes) throw Error("cannot read '" + path + "': a NRRD header longer than 1 MiB");
+    if (c != '\n') {
+      line.push_back(static_cast<char>(c));
+      continue;
+    }
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty() && !list) break;  // the header ends; a LIST goes on to the end of the file
+    if (line.rfind("data file: LIST", 0) == 0 || line.rfind("datafile: LIST", 0) == 0) list = true;
+    lines.push_back(line);
+    line.clear();
+    if (lines.size() == 1 && lines[0].rfind("NRRD", 0) != 0) return {};  // not NRRD: Teem will say so
+  }
+  if (!line.empty()) lines.push_back(line);
+  std::vector<std::string> names;
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    const std::string& l = lines[i];
+    std::string value;
+    for (const char* key : {"data file: ", "datafile: "})
+      if (l.rfind(key, 0) == 0) value = l.substr(std::strlen(key));
+    if (value.empty()) continue;
+    std::istringstream tokens(value);
+    std::string first;
+    tokens >> first;
+    if (first == "LIST") {
+      for (std::size_t j = i + 1; j < lines.size(); ++j)
+        if (!lines[j].empty()) names.push_back(lines[j]);
+      break;
+    }
+    long long min = 0, max = 0, step = 0;
+    if (first.find('%') != std::string::npos && tokens >> min >> max >> step) {
+      names = expand_pattern(path, first, min, max, step);
+    } else {
+      names = {value};
+    }
+  }
+  return names;
+}
+
+// The data files of the header at `path` as paths usable from here, from
+// its text. Throws when a name leaves the header's directory and
+// !any_data_path.
 std::vector<std::string> data_files_of(const std::string& path, bool any_data_path) {
+  const fs::path dir = fs::path(path).parent_path();
+  std::vector<std::string> files;
+  for (const std::string& name : data_file_names(path)) {
+    if (name == "-") throw Error("cannot read '" + path + "': data on standard input is not supported");
+    const fs::path p(name);
+    bool leaves = p.is_absolute();
+    for (const auto& part : p)
+      if (part == "..") leaves = true;
+    if (leaves && !any_data_path)
+      throw Error("cannot read '" + path + "': its data file '" + name +
+                  "' is outside the header's directory (absolute or '..'; allow with --any-data-file)");
+    files.push_back((p.is_absolute() ? p : dir / p).string());
+  }
+  return files;
+}
+
+// Reads the header only, after its data files were checked (Teem opens
+// them). Throws when Teem finds other data file names than `data_files`.
+HeaderInfo read_header(const std::string& path, const std::vector<std::string>& data_files) {
   Nrrd* nrrd = nrrdNew();
   NrrdIoState* nio = nrrdIoStateNew();
   nio->skipData = AIR_TRUE;
@@ -123,36 +221,50 @@ std::vector<std::string> data_files_of(const std::string& path, bool any_data_pa
     }
   } owner{nrrd, nio};
   if (nrrdLoad(nrrd, path.c_str(), nio)) throw Error("cannot read '" + path + "': " + teem_error());
+  HeaderInfo info;
+  for (unsigned a = 0; a < nrrd->dim; ++a) info.sizes.push_back(nrrd->axis[a].size);
+  info.sample_bytes = nrrdElementSize(nrrd);
   std::vector<std::string> names;
-  if (nio->dataFNFormat) {
-    const std::string format = nio->dataFNFormat;
-    if (!single_int_conversion(format))
-      throw Error("cannot read '" + path + "': unsupported data file pattern '" + format + "'");
-    const long long step = nio->dataFNStep;
-    if (step == 0) throw Error("cannot read '" + path + "': data file pattern with step 0");
-    for (long long i = nio->dataFNMin; step > 0 ? i <= nio->dataFNMax : i >= nio->dataFNMax; i += step) {
-      if (names.size() >= 100000) throw Error("cannot read '" + path + "': too many data files");
-      char name[4096];
-      std::snprintf(name, sizeof name, format.c_str(), static_cast<int>(i));
-      names.push_back(name);
-    }
-  } else {
+  if (nio->dataFNFormat)
+    names = expand_pattern(path, nio->dataFNFormat, nio->dataFNMin, nio->dataFNMax, nio->dataFNStep);
+  else
     for (unsigned i = 0; i < nio->dataFNArr->len; ++i) names.push_back(nio->dataFN[i]);
-  }
+  if (names.size() != data_files.size())
+    throw Error("cannot read '" + path + "': its data file field is not understood");
   const fs::path dir = fs::path(path).parent_path();
-  std::vector<std::string> files;
-  for (const std::string& name : names) {
-    if (name == "-") throw Error("cannot read '" + path + "': data on standard input is not supported");
-    const fs::path p(name);
-    bool leaves = p.is_absolute();
-    for (const auto& part : p)
-      if (part == "..") leaves = true;
-    if (leaves && !any_data_path)
-      throw Error("cannot read '" + path + "': its data file '" + name +
-                  "' is outside the header's directory (absolute or '..'; allow with --any-data-file)");
-    files.push_back((p.is_absolute() ? p : dir / p).string());
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    const fs::path p(names[i]);
+    if ((p.is_absolute() ? p : dir / p).string() != data_files[i])
+      throw Error("cannot read '" + path + "': its data file field is not understood");
   }
-  return files;
+  info.data_files = data_files;
+  return info;
+}
+
+// The volume's size from the axis sizes (see volume_io.hpp: 2 axes are one
+// slice, 4 axes a volume when the first has size 1); axis0 is the x axis.
+// Throws for other shapes and for sizes past an int.
+std::array<int, 3> volume_size(const std::vector<std::size_t>& sizes, const std::string& path, unsigned& axis0) {
+  std::size_t size[3] = {1, 1, 1};
+  axis0 = 0;
+  if (sizes.size() == 2 || sizes.size() == 3) {
+    for (unsigned a = 0; a < sizes.size(); ++a) size[a] = sizes[a];
+  } else if (sizes.size() == 4 && sizes[0] == 1) {
+    axis0 = 1;
+    for (unsigned a = 0; a < 3; ++a) size[a] = sizes[a + 1];
+  } else {
+    std::string text;
+    for (std::size_t s : sizes) {
+      if (!text.empty()) text.push_back('x');
+      text.append(std::to_string(s));
+    }
+    throw Error("cannot read '" + path + "': a scalar volume has 3 axes, this NRRD has " +
+                std::to_string(sizes.size()) + " (" + text + ")");
+  }
+  for (std::size_t s : size)
+    if (s == 0 || s > static_cast<std::size_t>(std::numeric_limits<int>::max()))
+      throw Error("cannot read '" + path + "': an axis has size 0 or is too large");
+  return {static_cast<int>(size[0]), static_cast<int>(size[1]), static_cast<int>(size[2])};
 }
 
 }  // namespace
@@ -192,18 +304,42 @@ bool is_volume_path(const std::string& path) {
   return ext == ".nrrd" || ext == ".nhdr";
 }
 
-std::vector<std::string> volume_files(const std::string& path, const VolumeReadOptions& options) {
+namespace {
+
+// The header's files (volume_files) and what it says, data files checked.
+HeaderInfo checked_header(const std::string& path, const VolumeReadOptions& options,
+                          std::vector<std::string>& files) {
   check_regular_file(path);
-  std::vector<std::string> files = {path};
-  for (const std::string& data : data_files_of(path, options.any_data_path)) {
-    check_regular_file(data);  // not /dev/zero, not a FIFO
-    files.push_back(data);
-  }
+  const std::vector<std::string> data_files = data_files_of(path, options.any_data_path);
+  for (const std::string& data : data_files) check_regular_file(data);  // not /dev/zero, not a FIFO
+  files = {path};
+  files.insert(files.end(), data_files.begin(), data_files.end());
+  return read_header(path, data_files);
+}
+
+}  // namespace
+
+std::vector<std::string> volume_files(const std::string& path, const VolumeReadOptions& options) {
+  std::vector<std::string> files;
+  checked_header(path, options, files);
   return files;
 }
 
 VolumeFile read_volume(const std::string& path, const VolumeReadOptions& options) {
-  const std::vector<std::string> files = volume_files(path, options);
+  std::vector<std::string> files;
+  const HeaderInfo info = checked_header(path, options, files);
+  // The header's claims, before a sample is read or decompressed
+  // (decompression bombs: `sizes: 400 400 400` in a 100-byte file).
+  unsigned axis0 = 0;
+  const std::array<int, 3> dims = volume_size(info.sizes, path, axis0);
+  const std::string size_text =
+      std::to_string(dims[0]) + "x" + std::to_string(dims[1]) + "x" + std::to_string(dims[2]);
+  check_size_limit("input '" + path + "'", size_text, checked_product({dims[0], dims[1], dims[2]}),
+                   options.max_voxels, options.option);
+  // Teem's decoded samples and our floats, both held until the copy ends.
+  check_memory_fits("reading '" + path + "' (" + size_text + ")",
+                    (4.0 + double(info.sample_bytes)) * dims[0] * dims[1] * dims[2]);
+  if (options.check) options.check(dims[0], dims[1], dims[2]);
   auto header = std::make_shared<VolumeHeader>();
   for (const std::string& f : files)
     if (const auto id = file_id(f)) header->sources.push_back(*id);
@@ -227,25 +363,12 @@ VolumeFile read_volume(const std::string& path, const VolumeReadOptions& options
     if (type_info(t).teem == nin->type) file.type = t, known_type = true;
   if (!known_type) throw Error("cannot read '" + path + "': unsupported NRRD sample type (block)");
 
-  std::size_t size[3] = {1, 1, 1};
-  if (nin->dim == 2 || nin->dim == 3) {
-    for (unsigned a = 0; a < nin->dim; ++a) size[a] = nin->axis[a].size;
-  } else if (nin->dim == 4 && nin->axis[0].size == 1) {
-    header->axis0 = 1;
-    for (unsigned a = 0; a < 3; ++a) size[a] = nin->axis[a + 1].size;
-  } else {
-    std::string sizes;
-    for (unsigned a = 0; a < nin->dim; ++a) {
-      if (a) sizes.push_back('x');
-      sizes.append(std::to_string(nin->axis[a].size));
-    }
-    throw Error("cannot read '" + path + "': a scalar volume has 3 axes, this NRRD has " + std::to_string(nin->dim) +
-                " (" + sizes + ")");
-  }
-  for (std::size_t s : size)
-    if (s == 0 || s > static_cast<std::size_t>(std::numeric_limits<int>::max()))
-      throw Error("cannot read '" + path + "': an axis has size 0 or is too large");
-  file.volume = Volume(static_cast<int>(size[0]), static_cast<int>(size[1]), static_cast<int>(size[2]));
+  // The same sizes as the header read above, unless the file changed since.
+  std::vector<std::size_t> sizes;
+  for (unsigned a = 0; a < nin->dim; ++a) sizes.push_back(nin->axis[a].size);
+  if (sizes != info.sizes) throw Error("cannot read '" + path + "': the file changed while it was read");
+  header->axis0 = axis0;
+  file.volume = Volume(dims[0], dims[1], dims[2]);
   const std::size_t n = file.volume.voxel_count();
   for (std::size_t i = 0; i < n; ++i) {
     const double v = nrrdDLookup[nin->type](nin->data, i);

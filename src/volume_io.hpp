@@ -33,8 +33,10 @@
 //   centering                    cell
 // so every output sample sits at its true world position.
 
+#include "size_limits.hpp"
 #include "volume.hpp"
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -71,6 +73,14 @@ struct VolumeReadOptions {
   // header from elsewhere cannot make us read, then write out, any file
   // (`data file: /etc/passwd`).
   bool any_data_path = false;
+  // Limits checked from the header, before a sample is read or
+  // decompressed (size_limits.hpp): the voxel count against max_voxels
+  // (named `option` in the refusal), the samples against the memory
+  // available; then `check`, when set, sees the size and may throw (the CLI
+  // sizes its whole job there).
+  long long max_voxels = default_max_input_voxels();
+  std::string option = "--max-input-voxels";
+  std::function<void(int nx, int ny, int nz)> check;
 };
 
 // Reads a NRRD file. The header and every data file it names must be

@@ -131,5 +131,17 @@ run_fail "input untouched" "$work/in.png" "$work/in.png" --scale 2
 cmp -s "$work/in.png" "$work/in_copy.png" && ok || bad "input was modified"
 ls -a "$work" | grep -q '\.tmp' && bad "temporary file left behind" || ok
 
+# Metadata (docs/reliability.md): a portrait JPEG (EXIF orientation 6) stays
+# portrait in PNG (applied) and keeps its tag in JPEG (carried); a second TIFF
+# page is dropped with a warning.
+oiiotool "$work/in.png" --attrib Orientation 6 -o "$work/portrait.jpg"
+run_ok "portrait to PNG" "$work/portrait.jpg" "$work/portrait.png" --scale 2
+[ "$(size_of "$work/portrait.png")" = "32x48" ] && ok || bad "portrait to PNG: size $(size_of "$work/portrait.png")"
+run_ok "portrait to JPEG" "$work/portrait.jpg" "$work/portrait_x2.jpg" --scale 2
+oiiotool --info -v "$work/portrait_x2.jpg" | grep -q "Orientation: 6" && ok || bad "portrait to JPEG: orientation lost"
+oiiotool "$work/in.png" "$work/in.png" --siappend -o "$work/two.tif"
+run_ok "two-page TIFF" "$work/two.tif" "$work/two_x2.png" --scale 2
+grep -q "pages or parts; only the first" "$work/err.txt" && ok || bad "two-page TIFF: no warning ($(cat "$work/err.txt"))"
+
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -260,3 +260,44 @@ TEST_CASE("grid_points: bad input is a ddt::Error") {
   o.width = 0;
   CHECK_THROWS_AS(grid_points(tri, {0, 1, 2}, 1, o), Error);
 }
+
+TEST_CASE("grid_points: huge and tiny coordinates: a similar copy grids alike, or is refused") {
+  // Uniform scaling and translation of the positions leave the Delaunay
+  // mesh, and the flips of a cost whose total scales uniformly with them
+  // (variance: area times the values' variance), unchanged; so the grid's
+  // values at the corresponding pixel centres are the same.
+  const std::vector<Point2> unit = halton_square(40);
+  const std::vector<float> v = sample(unit, [](double x, double y) { return std::sin(4 * x) + (y > 0.5 ? 1 : 0); });
+  auto moved = [&](double scale, double offset) {
+    std::vector<Point2> p;
+    for (const Point2& q : unit) p.push_back({offset + scale * q.x, offset + scale * q.y});
+    return p;
+  };
+  GridOptions o;
+  o.width = o.height = 24;
+  o.cost = "variance";
+  for (const bool optimize : {false, true}) {
+    o.optimize = optimize;
+    const Image reference = grid_points(unit, v, 1, o);
+    const std::vector<std::pair<double, double>> similar =
+        optimize ? std::vector<std::pair<double, double>>{{1e150, 0}, {1e-150, 0}, {1e140, 1e150}, {1e-140, 1e-130}}
+                 : std::vector<std::pair<double, double>>{{1e306, 0}, {5e306, -5e306}, {1e290, 1e300}, {1e-300, 0}};
+    for (const auto& [scale, offset] : similar) {
+      const Image out = grid_points(moved(scale, offset), v, 1, o);
+      CAPTURE(optimize);
+      CAPTURE(scale);
+      CAPTURE(offset);
+      float worst = 0;
+      for (std::size_t i = 0; i < out.pixels.size(); ++i)
+        worst = std::max(worst, std::abs(out.pixels[i] - reference.pixels[i]));
+      CHECK(worst < 1e-4f);
+    }
+  }
+  o.optimize = false;
+  CHECK_THROWS_AS(grid_points(moved(1e308, 0), v, 1, o), Error);  // the render's sums overflow
+  o.optimize = true;
+  CHECK_THROWS_AS(grid_points(moved(1e155, 0), v, 1, o), Error);  // the costs' products overflow
+  CHECK_THROWS_AS(grid_points(moved(1e-160, 0), v, 1, o), Error);  // ... or underflow
+  o.bounds = GridBounds{-1e308, 0, 1e308, 1};
+  CHECK_THROWS_AS(grid_points(unit, v, 1, o), Error);
+}

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <filesystem>
 #include <string>
 #include <map>
 #include <utility>
@@ -23,6 +24,23 @@ inline std::string datasets_dir() {
   const char* env = std::getenv("DDTSCALE_DATASETS");
   return env && *env ? std::string(env) : std::string(DDTSCALE_DATASETS_DIR);
 }
+
+// A fresh directory under the system's temporary directory, removed with
+// everything in it at the end of the scope; dir / "name" is a path in it.
+struct TempDir {
+  std::filesystem::path path;
+  TempDir() {
+    std::string pattern = (std::filesystem::temp_directory_path() / "ddtscale-test-XXXXXX").string();
+    path = mkdtemp(pattern.data());
+  }
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  std::string operator/(const std::string& name) const { return (path / name).string(); }
+};
 
 inline std::vector<Point2> grid_points(int w, int h) {
   std::vector<Point2> p;

@@ -1,4 +1,5 @@
 #include "error.hpp"
+#include "test_support.hpp"
 #include "volume_io.hpp"
 
 #include <doctest/doctest.h>
@@ -16,18 +17,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::string pattern = (fs::temp_directory_path() / "ddtscale-volume-io-XXXXXX").string();
-    path = mkdtemp(pattern.data());
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  std::string operator/(const std::string& name) const { return (path / name).string(); }
-};
+using test::TempDir;
 
 Volume ramp(int nx, int ny, int nz, double scale) {
   Volume v(nx, ny, nz);

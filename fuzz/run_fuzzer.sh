@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Runs one libFuzzer target for a bounded time from its seed corpus; new
+# inputs go to a scratch corpus (the committed one is only read), a crash,
+# leak or timeout input to ./fuzz-artifacts/ for reproduction:
+#   path/to/fuzz_<name> fuzz-artifacts/crash-...
+# Usage: run_fuzzer.sh path/to/fuzz_<name> seed_corpus_dir seconds
+set -euo pipefail
+fuzzer="$1" seeds="$2" seconds="$3"
+scratch=$(mktemp -d)
+trap 'rm -rf "$scratch"' EXIT
+mkdir -p fuzz-artifacts
+# Leaks are looked for once, at the end, over everything the run left
+# (-detect_leaks=0 turns off only libFuzzer's check after each input, a full
+# scan each time a library loses memory on an error path).
+"$fuzzer" "$scratch" "$seeds" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=65536 -detect_leaks=0 \
+  -print_final_stats=1 -artifact_prefix="$PWD/fuzz-artifacts/$(basename "$fuzzer")-"
