@@ -263,7 +263,13 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
   // The consistent reconstruction solves over the whole image; in tiles the
   // image gets the point model's interpolation, and the caller is told.
   UpscaleOptions band_options = options;
-  if (tile_rows > 0 && options.model.kind != AcquisitionModel::Kind::point) {
+  // An output with fewer pixels than the input on an axis cannot reproduce
+  // it: a reduction is the plain interpolation.
+  if ((out_width < W || out_height < H) && options.model.kind != AcquisitionModel::Kind::point) {
+    band_options.model.kind = AcquisitionModel::Kind::point;
+    if (options.log) options.log("consistency: skipped, the output is smaller than the input on an axis (point model)");
+  }
+  if (tile_rows > 0 && band_options.model.kind != AcquisitionModel::Kind::point) {
     band_options.model.kind = AcquisitionModel::Kind::point;
     local.consistency_skipped = true;
     if (options.log) options.log("consistency: skipped, the image is processed in tiles (point model)");

@@ -259,3 +259,17 @@ TEST_CASE("upscale: in tiles the default falls back to the point model and says 
   CHECK_FALSE(point.consistency_skipped);
   CHECK(max_difference(a, b) == 0);
 }
+
+TEST_CASE("upscale: a reduction on any axis is the plain interpolation under every model") {
+  const Image in = smooth_test_image(20, 16, 3);
+  UpscaleOptions point;
+  point.model.kind = AcquisitionModel::Kind::point;
+  for (auto [w, h] : {std::pair{10, 8}, std::pair{40, 12}, std::pair{15, 32}})
+    for (const char* name : {"box", "bicubic", "gauss:0.5"}) {
+      CAPTURE(w);
+      CAPTURE(name);
+      UpscaleOptions options;
+      options.model = parse_acquisition_model(name);
+      CHECK(max_difference(upscale(in, w, h, options), upscale(in, w, h, point)) == 0);
+    }
+}
