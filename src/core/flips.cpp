@@ -3,6 +3,7 @@
 #include "core/predicates.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <utility>
 
 namespace ddt::core {
@@ -16,12 +17,14 @@ bool contains(const Array& list, int count, index_t x) {
 }
 
 // The cells containing every vertex of A, found across the facets that
-// contain A (the star of conv A is connected through them). False when
-// there are more than max_flip_cells<D>.
+// contain A (the star of conv A is connected through them). Returns how
+// many; -1 when there are more than max_flip_cells<D>, -2 when the walk
+// would leave the scope.
+constexpr int star_too_large = -1, star_out_of_scope = -2;
 template <int D>
-bool gather_star(const SimplexMesh<D>& mesh, index_t start, const std::array<index_t, D + 1>& a, int a_count,
-                 std::array<index_t, max_flip_cells<D>>& star, int& star_count) {
-  star_count = 0;
+int gather_star(const SimplexMesh<D>& mesh, index_t start, const std::array<index_t, D + 1>& a, int a_count,
+                std::array<index_t, max_flip_cells<D>>& star, const ReadScope* scope) {
+  int star_count = 0;
   star[star_count++] = start;
   for (int k = 0; k < star_count; ++k) {
     const index_t c = star[k];
@@ -31,11 +34,12 @@ bool gather_star(const SimplexMesh<D>& mesh, index_t start, const std::array<ind
       if (g == no_facet) continue;
       const index_t next = cell_of<D>(g);
       if (contains(star, star_count, next)) continue;
-      if (star_count == max_flip_cells<D>) return false;
+      if (scope && !scope->reads(next)) return star_out_of_scope;
+      if (star_count == max_flip_cells<D>) return star_too_large;
       star[star_count++] = next;
     }
   }
-  return true;
+  return star_count;
 }
 
 // With the circuit (A, B) fixed, checks that the star is exactly
@@ -49,7 +53,8 @@ bool build_plan(const SimplexMesh<D>& mesh, const std::array<index_t, max_flip_c
   std::array<unsigned, cap> missing_b{};  // per link: bit j when (A u B \ b_j) u L is present
   int link_count = 0;
   for (int s = 0; s < star_count; ++s) {
-    std::array<index_t, D + 1> rest{};
+    std::array<index_t, D + 1> rest;  // the link vertices, then sentinels (sorted last)
+    rest.fill(std::numeric_limits<index_t>::max());
     int rest_count = 0, in_b = 0;
     unsigned present = 0;
     for (int i = 0; i <= D; ++i) {
@@ -64,7 +69,7 @@ bool build_plan(const SimplexMesh<D>& mesh, const std::array<index_t, max_flip_c
         rest[rest_count++] = v;
     }
     if (in_b != plan.b_count - 1 || rest_count != link_size) return false;
-    std::sort(rest.begin(), rest.begin() + rest_count);
+    std::sort(rest.begin(), rest.end());
     const unsigned missing = ((1u << plan.b_count) - 1) & ~present;
     int l = 0;
     while (l < link_count && links[l] != rest) ++l;
@@ -136,7 +141,18 @@ std::string flip_name(const FlipPlan<D>& plan) {
 }
 
 template <int D>
-int propose_flip(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mask, FlipPlan<D>* plans, int max_plans) {
+int simplex_star(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mask,
+                 std::array<index_t, max_flip_cells<D>>& star, const ReadScope* scope) {
+  std::array<index_t, D + 1> a{};
+  int a_count = 0;
+  for (int i = 0; i <= D; ++i)
+    if (simplex_mask & (1u << i)) a[a_count++] = mesh.vertex(start, i);
+  return std::max(-1, gather_star(mesh, start, a, a_count, star, scope));
+}
+
+template <int D>
+int propose_flip(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mask, FlipPlan<D>* plans, int max_plans,
+                 const ReadScope* scope) {
   FlipPlan<D> plan;
   for (int i = 0; i <= D; ++i)
     if (simplex_mask & (1u << i)) plan.a[plan.a_count++] = mesh.vertex(start, i);
@@ -154,6 +170,7 @@ int propose_flip(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mas
     if (simplex_mask & (1u << x)) continue;
     const index_t g = mesh.opp[(D + 1) * start + x];
     if (g == no_facet) continue;
+    if (scope && !scope->reads(cell_of<D>(g))) return -1;
     std::array<index_t, D + 2> ids;
     std::array<Vec<D>, D + 2> points;
     for (int i = 0; i <= D; ++i) ids[i] = start_vertices[i];
@@ -172,15 +189,20 @@ int propose_flip(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mas
           std::equal(plan.b.begin(), plan.b.begin() + plan.b_count, plans[p].b.begin()))
         seen = true;
     if (seen) continue;
-    if (star_count == 0 && !gather_star(mesh, start, plan.a, plan.a_count, star, star_count)) return 0;
+    if (star_count == 0) {
+      star_count = gather_star(mesh, start, plan.a, plan.a_count, star, scope);
+      if (star_count == star_too_large) return 0;
+      if (star_count == star_out_of_scope) return -1;
+    }
     if (build_plan(mesh, star, star_count, plan)) plans[count++] = plan;
   }
   return count;
 }
 
 template <int D>
-void apply_flip(SimplexMesh<D>& mesh, const FlipPlan<D>& plan, index_t* new_slots) {
+void apply_flip(SimplexMesh<D>& mesh, const FlipPlan<D>& plan, index_t* new_slots, std::vector<index_t>* free_slots) {
   constexpr int cap = max_flip_cells<D>;
+  std::vector<index_t>& pool = free_slots ? *free_slots : mesh.free_slots;
   // The region's boundary facets that have an outside neighbour.
   struct Outer {
     FacetKey<D> key;
@@ -202,9 +224,9 @@ void apply_flip(SimplexMesh<D>& mesh, const FlipPlan<D>& plan, index_t* new_slot
   for (int k = 0; k < plan.inserted_count; ++k) {
     if (k < plan.removed_count) {
       slots[k] = plan.removed[k];
-    } else if (!mesh.free_slots.empty()) {
-      slots[k] = mesh.free_slots.back();
-      mesh.free_slots.pop_back();
+    } else if (!pool.empty()) {
+      slots[k] = pool.back();
+      pool.pop_back();
     } else {
       slots[k] = mesh.slot_count();
       mesh.cell.insert(mesh.cell.end(), D + 1, no_vertex);
@@ -214,7 +236,7 @@ void apply_flip(SimplexMesh<D>& mesh, const FlipPlan<D>& plan, index_t* new_slot
   for (int k = plan.inserted_count; k < plan.removed_count; ++k) {
     const index_t c = plan.removed[k];
     for (int i = 0; i <= D; ++i) mesh.cell[(D + 1) * c + i] = no_vertex, mesh.opp[(D + 1) * c + i] = no_facet;
-    mesh.free_slots.push_back(c);
+    pool.push_back(c);
   }
   for (int k = 0; k < plan.inserted_count; ++k)
     for (int i = 0; i <= D; ++i) mesh.cell[(D + 1) * slots[k] + i] = plan.inserted[k][i];
@@ -248,8 +270,10 @@ void apply_flip(SimplexMesh<D>& mesh, const FlipPlan<D>& plan, index_t* new_slot
 
 #define DDT_CORE_INSTANTIATE(D)                                                              \
   template std::string flip_name<D>(const FlipPlan<D>&);                                     \
-  template int propose_flip<D>(const SimplexMesh<D>&, index_t, unsigned, FlipPlan<D>*, int); \
-  template void apply_flip<D>(SimplexMesh<D>&, const FlipPlan<D>&, index_t*);
+  template int propose_flip<D>(const SimplexMesh<D>&, index_t, unsigned, FlipPlan<D>*, int, const ReadScope*); \
+  template int simplex_star<D>(const SimplexMesh<D>&, index_t, unsigned, std::array<index_t, max_flip_cells<D>>&, \
+                               const ReadScope*);                                                              \
+  template void apply_flip<D>(SimplexMesh<D>&, const FlipPlan<D>&, index_t*, std::vector<index_t>*);
 DDT_CORE_INSTANTIATE(2)
 DDT_CORE_INSTANTIATE(3)
 DDT_CORE_INSTANTIATE(4)
