@@ -23,7 +23,7 @@ bool contains(const Array& list, int count, index_t x) {
 constexpr int star_too_large = -1, star_out_of_scope = -2;
 template <int D>
 int gather_star(const SimplexMesh<D>& mesh, index_t start, const std::array<index_t, D + 1>& a, int a_count,
-                std::array<index_t, max_flip_cells<D>>& star, const ReadScope* scope) {
+                std::array<index_t, max_flip_cells<D>>& star, const ReadScope* scope, int cap = max_flip_cells<D>) {
   int star_count = 0;
   star[star_count++] = start;
   for (int k = 0; k < star_count; ++k) {
@@ -35,22 +35,33 @@ int gather_star(const SimplexMesh<D>& mesh, index_t start, const std::array<inde
       const index_t next = cell_of<D>(g);
       if (contains(star, star_count, next)) continue;
       if (scope && !scope->reads(next)) return star_out_of_scope;
-      if (star_count == max_flip_cells<D>) return star_too_large;
+      if (star_count == cap) return star_too_large;
       star[star_count++] = next;
     }
   }
   return star_count;
 }
 
+// The most cells a flip removing a simplex of a vertices can remove. The
+// circuit A u B spans a k-flat, a <= k <= D (|B| = k + 2 - a >= 2), and the
+// flip removes |B| cells per link simplex: one link (none) when k = D; when
+// k = D - 1 the links are single vertices on either side of the hyperplane,
+// at most two; lower circuits (k <= D - 2, possible when a <= D - 2) have
+// links of any size. So 2 for a facet, 4 for an edge in 3D.
+template <int D>
+constexpr int largest_star(int a) {
+  return a <= D - 2 ? max_flip_cells<D> : std::max(D + 2 - a, 2 * (D + 1 - a));
+}
+
 // With the circuit (A, B) fixed, checks that the star is exactly
 // {(A u B \ b) u L : b in B, L in Links} and fills the plan's cells.
 template <int D>
 bool build_plan(const SimplexMesh<D>& mesh, const std::array<index_t, max_flip_cells<D>>& star, int star_count,
-                FlipPlan<D>& plan) {
+                FlipPlan<D>& plan, bool lattice) {
   constexpr int cap = max_flip_cells<D>;
   const int link_size = D - plan.circuit_dimension();  // vertices per link simplex
-  std::array<std::array<index_t, D + 1>, cap> links{};
-  std::array<unsigned, cap> missing_b{};  // per link: bit j when (A u B \ b_j) u L is present
+  std::array<std::array<index_t, D + 1>, cap> links;  // the first link_count are set
+  std::array<unsigned, cap> missing_b;  // per link: bit j when (A u B \ b_j) u L is present
   int link_count = 0;
   for (int s = 0; s < star_count; ++s) {
     std::array<index_t, D + 1> rest;  // the link vertices, then sentinels (sorted last)
@@ -93,7 +104,7 @@ bool build_plan(const SimplexMesh<D>& mesh, const std::array<index_t, max_flip_c
         if (j != skip) v[n++] = plan.a[j];
       for (int j = 0; j < plan.b_count; ++j) v[n++] = plan.b[j];
       for (int j = 0; j < link_size; ++j) v[n++] = links[l][j];
-      const int o = orient_ids<D>(mesh.points, v);
+      const int o = orient_ids<D>(mesh.points, v, lattice);
       if (o == 0) return false;  // unreachable in exact arithmetic: (A, B) is a Radon partition
       if (o < 0) std::swap(v[0], v[1]);
       plan.inserted[plan.inserted_count++] = v;
@@ -109,7 +120,8 @@ bool build_plan(const SimplexMesh<D>& mesh, const std::array<index_t, max_flip_c
 // end, D - x transpositions from a negative order, so l_x = l_y. So x and
 // y are on B's side, and A's vertices are tested first to reject early.
 template <int D>
-bool a_is_a_side(const std::array<Vec<D>, D + 2>& s, int x, unsigned a_mask, std::array<int, D + 2>& sign) {
+bool a_is_a_side(const std::array<Vec<D>, D + 2>& s, int x, unsigned a_mask, std::array<int, D + 2>& sign,
+                 bool lattice) {
   const int b_side = (D % 2 == 0) ? -1 : 1;
   sign[D + 1] = b_side;
   sign[x] = b_side;
@@ -117,7 +129,7 @@ bool a_is_a_side(const std::array<Vec<D>, D + 2>& s, int x, unsigned a_mask, std
     std::array<Vec<D>, D + 1> rest;
     for (int j = 0, n = 0; j < D + 2; ++j)
       if (j != i) rest[n++] = s[j];
-    const int o = orient<D>(rest);
+    const int o = orient<D>(rest, lattice);
     return (i % 2 == 0) ? o : -o;
   };
   for (int i = 0; i <= D; ++i)
@@ -152,7 +164,8 @@ int simplex_star(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mas
 
 template <int D>
 int propose_flip(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mask, FlipPlan<D>* plans, int max_plans,
-                 const ReadScope* scope) {
+                 const ProposalOptions& options) {
+  const ReadScope* scope = options.scope;
   FlipPlan<D> plan;
   for (int i = 0; i <= D; ++i)
     if (simplex_mask & (1u << i)) plan.a[plan.a_count++] = mesh.vertex(start, i);
@@ -160,6 +173,12 @@ int propose_flip(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mas
 
   std::array<index_t, max_flip_cells<D>> star;
   int star_count = 0;  // gathered when a circuit first passes (most items fail before)
+  if (plan.a_count < D && largest_star<D>(plan.a_count) < max_flip_cells<D>) {
+    // A star too large for any flip is rejected before any predicate.
+    star_count = gather_star(mesh, start, plan.a, plan.a_count, star, scope, largest_star<D>(plan.a_count));
+    if (star_count == star_too_large) return 0;
+    if (star_count == star_out_of_scope) return -1;
+  }
 
   // Each apex y across a facet of the start cell that contains A closes a
   // set of D + 2 points; a valid flip's circuit is the dependence of one of
@@ -177,7 +196,7 @@ int propose_flip(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mas
     ids[D + 1] = mesh.apex_across((D + 1) * start + x);
     for (int i = 0; i < D + 2; ++i) points[i] = mesh.points[ids[i]];
     std::array<int, D + 2> sign;
-    if (!a_is_a_side<D>(points, x, simplex_mask, sign)) continue;
+    if (!a_is_a_side<D>(points, x, simplex_mask, sign, options.lattice_exact)) continue;
     plan.b_count = 0;
     for (int i = 0; i < D + 2; ++i)
       if (sign[i] == sign[D + 1]) plan.b[plan.b_count++] = ids[i];
@@ -194,7 +213,7 @@ int propose_flip(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mas
       if (star_count == star_too_large) return 0;
       if (star_count == star_out_of_scope) return -1;
     }
-    if (build_plan(mesh, star, star_count, plan)) plans[count++] = plan;
+    if (build_plan(mesh, star, star_count, plan, options.lattice_exact)) plans[count++] = plan;
   }
   return count;
 }
@@ -270,7 +289,7 @@ void apply_flip(SimplexMesh<D>& mesh, const FlipPlan<D>& plan, index_t* new_slot
 
 #define DDT_CORE_INSTANTIATE(D)                                                              \
   template std::string flip_name<D>(const FlipPlan<D>&);                                     \
-  template int propose_flip<D>(const SimplexMesh<D>&, index_t, unsigned, FlipPlan<D>*, int, const ReadScope*); \
+  template int propose_flip<D>(const SimplexMesh<D>&, index_t, unsigned, FlipPlan<D>*, int, const ProposalOptions&); \
   template int simplex_star<D>(const SimplexMesh<D>&, index_t, unsigned, std::array<index_t, max_flip_cells<D>>&, \
                                const ReadScope*);                                                              \
   template void apply_flip<D>(SimplexMesh<D>&, const FlipPlan<D>&, index_t*, std::vector<index_t>*);

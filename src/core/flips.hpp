@@ -63,6 +63,14 @@ struct ReadScope {
   bool reads(index_t c) const { return owner[c] == region; }
 };
 
+// How propose_flip reads the mesh. scope: the cells it may read (null: all).
+// lattice_exact: the points satisfy predicates.hpp's lattice_exact, so
+// orientations are plain determinants (the same signs, faster).
+struct ProposalOptions {
+  const ReadScope* scope = nullptr;
+  bool lattice_exact = false;
+};
+
 // A flip ready to apply: the cells it removes (slots) and the positively
 // oriented cells it inserts, with the circuit that defines it.
 template <int D>
@@ -71,10 +79,10 @@ struct FlipPlan {
   std::array<index_t, D + 1> a{};  // conv A, a face of every removed cell
   std::array<index_t, D + 1> b{};  // conv B, a face of every inserted cell
   int link_count = 0;              // simplices in the link; 1 (the empty one) when not degenerate
-  int removed_count = 0;
-  std::array<index_t, max_flip_cells<D>> removed{};
+  int removed_count = 0;  // entries past the counts are left uninitialized (a plan is built per test)
+  std::array<index_t, max_flip_cells<D>> removed;
   int inserted_count = 0;
-  std::array<CellVertices<D>, max_flip_cells<D>> inserted{};
+  std::array<CellVertices<D>, max_flip_cells<D>> inserted;
 
   int circuit_dimension() const { return a_count + b_count - 2; }
   bool degenerate() const { return circuit_dimension() < D; }
@@ -95,11 +103,11 @@ std::string flip_name(const FlipPlan<D>& plan);
 // how many. Exact (predicates.hpp). Preconditions: check_mesh<D> is "";
 // start is live; simplex_mask has 2 .. D bits (others give 0 plans).
 // Complexity: O(max_flip_cells (D + 2)) orientation tests.
-// scope (optional): the cells it may read (the parallel schedule's region);
-// returns -1, having read nothing outside, when the flip would need others.
+// With options.scope, returns -1, having read nothing outside it, when the
+// flip would need other cells.
 template <int D>
 int propose_flip(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mask, FlipPlan<D>* plans, int max_plans,
-                 const ReadScope* scope = nullptr);
+                 const ProposalOptions& options = {});
 
 // The star of the simplex given by `simplex_mask` in cell `start`: every
 // cell containing its vertices, found across the facets that contain them.

@@ -1,5 +1,6 @@
 #include "core/lawson.hpp"
 
+#include "core/predicates.hpp"
 #include "error.hpp"
 
 #include <tbb/parallel_for.h>
@@ -55,7 +56,7 @@ class Optimizer {
   Optimizer(SimplexMesh<D>& mesh, const std::vector<float>& values, int K, const CostFunction& cost,
             const LawsonOptions& options)
       : mesh_(mesh), z_(values.data()), K_(K), cost_(cost), options_(options),
-        facet_(cost.form != CostForm::simplex_weight) {}
+        facet_(cost.form != CostForm::simplex_weight), lattice_(lattice_exact<D>(mesh.points)) {}
 
   // The first List_active as a mask per cell (bit j: item P c + j): each
   // facet from its smaller slot, each lower simplex from the smallest slot
@@ -145,7 +146,7 @@ class Optimizer {
     const index_t c = item / P;
     if (!mesh_.is_live(c)) return 0;
     FlipPlan<D> plans[2];
-    const int n = propose_flip<D>(mesh_, c, item_masks<D>[item % P], plans, 2, scope);
+    const int n = propose_flip<D>(mesh_, c, item_masks<D>[item % P], plans, 2, {scope, lattice_});
     auto defer = [&] {
       run.deferred.push_back(item);
       ++run.deferred_tests;
@@ -237,6 +238,7 @@ class Optimizer {
   const CostFunction& cost_;
   const LawsonOptions& options_;
   bool facet_;
+  bool lattice_;  // lattice_exact(mesh.points): plain orientations
 };
 
 // The band of vertex v in a phase whose bands are shifted by `shift`.
