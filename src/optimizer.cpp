@@ -1,6 +1,7 @@
 #include "optimizer.hpp"
 
 #include "chunked_sum.hpp"
+#include "core/local_cost.hpp"
 #include "error.hpp"
 #include "huge_pages.hpp"
 
@@ -167,10 +168,12 @@ struct Geometry {
   }
 };
 
-// The acceptance rule of the procedure.
+// The acceptance rule of the procedure: the core's (core/local_cost.hpp),
+// with noise_scale 0 (the 2D evaluators do not compute one).
 inline bool accept(double before, double after, double tolerance, double& gain) {
-  gain = before - after;
-  return gain > tolerance * std::max(before, after) && gain > 0;
+  const core::LocalCosts costs{before, after, 0.0};
+  gain = costs.gain();
+  return costs.improves(tolerance);
 }
 
 // Any cost: flip_costs.

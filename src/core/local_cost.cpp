@@ -123,11 +123,6 @@ FacetKey<D> key_of(const CellVertices<D>& v, int i) {
 
 }  // namespace
 
-bool LocalCosts::improves(double relative_tolerance) const {
-  const double g = gain();
-  return g > 0 && g > relative_tolerance * std::max({before, after, noise_scale});
-}
-
 template <int D>
 double total_cost(const SimplexMesh<D>& mesh, const float* values, int K, const CostFunction& cost) {
   const Context<D> ctx{mesh, values, K, cost};

@@ -18,6 +18,7 @@
 #include "core/flips.hpp"
 #include "costs.hpp"
 
+#include <algorithm>
 #include <vector>
 
 namespace ddt::core {
@@ -35,7 +36,10 @@ struct LocalCosts {
   // noise_scale) and gain > 0. So the total strictly decreases (Lawson's
   // procedure terminates), and a linear field, whose facet terms are
   // rounding noise, makes no flips. NaN never improves.
-  bool improves(double relative_tolerance) const;
+  bool improves(double relative_tolerance) const {
+    const double g = gain();
+    return g > 0 && g > relative_tolerance * std::max({before, after, noise_scale});
+  }
 };
 
 // values: #V by K (row-major), K in 1..max_cost_channels.
