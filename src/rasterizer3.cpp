@@ -266,7 +266,25 @@ Volume render_tetrahedra(const core::SimplexMesh<3>& mesh, const std::vector<flo
       };
       for (int Z = z0; Z <= z1; ++Z) {
         const double z = zs[Z];
-        for (int Y = y0; Y <= y1; ++Y) {
+        // The rows the section at z can reach: the y extent of the points
+        // where the six edges cross the plane (an optimized mesh has long
+        // thin tetrahedra whose bounding box holds many empty rows).
+        double section_lo = INFINITY, section_hi = -INFINITY;
+        for (int i = 0; i < 4; ++i)
+          for (int j = i + 1; j < 4; ++j) {
+            const double zi = s.p[i][2], zj = s.p[j][2];
+            if ((zi - z) * (zj - z) > 0) continue;
+            const double y = zi == zj ? s.p[i][1] : s.p[i][1] + (z - zi) / (zj - zi) * (s.p[j][1] - s.p[i][1]);
+            section_lo = std::min({section_lo, y, zi == zj ? s.p[j][1] : y});
+            section_hi = std::max({section_hi, y, zi == zj ? s.p[j][1] : y});
+          }
+        int ys0 = y0, ys1 = y1;
+        if (section_lo <= section_hi) {
+          index_range(section_lo, section_hi, grid.scale_y, grid.ny, ys0, ys1);
+          ys0 = std::max(ys0, y0);
+          ys1 = std::min(ys1, y1);
+        }
+        for (int Y = ys0; Y <= ys1; ++Y) {
           const double y = ys[Y];
           // The segment of the row inside the tetrahedron, in floating point.
           double x_lo = lo[0], x_hi = hi[0];
