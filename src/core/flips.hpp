@@ -56,7 +56,7 @@ template <int D>
 inline constexpr int max_flip_cells = 4 * D;
 
 // The cells a caller may read: c when owner[c] == region (the parallel
-// schedule gives each region the cells it owns; lawson.hpp).
+// schedule gives each region the cells it owns; core/lawson.hpp).
 struct ReadScope {
   const std::int32_t* owner = nullptr;
   std::int32_t region = 0;
@@ -120,8 +120,7 @@ int simplex_star(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mas
 
 // Replaces plan.removed by plan.inserted and relinks every facet by its
 // key: inside the region among the new cells, on its boundary to the old
-// outside neighbours, hull facets unlinked (mesh3.cpp's apply_flip for any
-// D). Reuses the removed slots first, then free slots (last freed first),
+// outside neighbours, hull facets unlinked. Reuses the removed slots first, then free slots (last freed first),
 // then appends. Writes the new cells' slots to new_slots when given.
 // free_slots (optional) replaces mesh.free_slots as the list slots are taken
 // from and freed to (a region's own pool in the parallel schedule; when it
