@@ -42,6 +42,9 @@
 
 namespace ddt {
 
+// The most value channels a cost is evaluated on (RGBA and a few more).
+inline constexpr int max_cost_channels = 8;
+
 enum class CostForm {
   simplex_weight,          // sum_s content(s) * w(s), w from s's own values
   facet_weighted_content,  // sum_s content(s) * mean_{f in s} c(f)

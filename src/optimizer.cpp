@@ -1,5 +1,7 @@
 #include "optimizer.hpp"
 
+#include "chunked_sum.hpp"
+#include "core/local_cost.hpp"
 #include "error.hpp"
 #include "huge_pages.hpp"
 
@@ -166,10 +168,12 @@ struct Geometry {
   }
 };
 
-// The acceptance rule of the procedure.
+// The acceptance rule of the procedure: the core's (core/local_cost.hpp),
+// with noise_scale 0 (the 2D evaluators do not compute one).
 inline bool accept(double before, double after, double tolerance, double& gain) {
-  gain = before - after;
-  return gain > tolerance * std::max(before, after) && gain > 0;
+  const core::LocalCosts costs{before, after, 0.0};
+  gain = costs.gain();
+  return costs.improves(tolerance);
 }
 
 // Any cost: flip_costs.
@@ -372,24 +376,6 @@ struct VarianceEvaluator {
     return accept(before, after, tolerance, gain);
   }
 };
-
-// Sum of term(i) for i in [0, items): fixed chunks summed in parallel, the
-// partial sums added in order, so the result does not depend on the
-// number of threads.
-template <class Term>
-double chunked_sum(index_t items, Term term) {
-  constexpr index_t chunk = 1 << 15;
-  std::vector<double> partial((static_cast<std::size_t>(items) + chunk - 1) / chunk, 0.0);
-  tbb::parallel_for(std::size_t(0), partial.size(), [&](std::size_t k) {
-    const index_t lo = static_cast<index_t>(k) * chunk, hi = std::min(items, lo + chunk);
-    double sum = 0;
-    for (index_t i = lo; i < hi; ++i) sum += term(i);
-    partial[k] = sum;
-  });
-  double total = 0;
-  for (double p : partial) total += p;
-  return total;
-}
 
 bool is_sederberg(const CostFunction& cost) {
   return cost.facet_cost == &sederberg_facet_cost && !cost.facet_geometry &&

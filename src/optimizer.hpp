@@ -47,8 +47,6 @@
 
 namespace ddt {
 
-inline constexpr int max_cost_channels = 8;
-
 struct LawsonOptions {
   double relative_tolerance = 1e-9;
   int max_iterations = 10000;

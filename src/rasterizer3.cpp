@@ -1,9 +1,9 @@
 #include "rasterizer3.hpp"
 
 #include "error.hpp"
+#include "core/predicates.hpp"
 #include "rasterizer.hpp"
 
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -16,10 +16,15 @@
 namespace ddt {
 namespace {
 
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using core::no_facet;
+using Point3 = core::Vec<3>;
+
+// Face i of a cell read as (cell[face_vertex[i][0..2]]) has vertex i on its
+// positive side (the normals below point inwards).
+constexpr int face_vertex[4][3] = {{1, 3, 2}, {0, 2, 3}, {0, 3, 1}, {0, 1, 2}};
 
 int orient2(double ax, double ay, double bx, double by, double cx, double cy) {
-  return static_cast<int>(CGAL::orientation(Kernel::Point_2(ax, ay), Kernel::Point_2(bx, by), Kernel::Point_2(cx, cy)));
+  return core::orient<2>({core::Vec<2>{ax, ay}, {bx, by}, {cx, cy}});
 }
 
 // Side of p relative to the oriented plane a b c with the exact predicate
@@ -29,11 +34,11 @@ int orient2(double ax, double ay, double bx, double by, double cx, double cy) {
 // projections, so the tie-break is exact too. Antisymmetric in the face's
 // orientation, so two tetrahedra sharing a face never both own a point.
 int side(const Point3& a, const Point3& b, const Point3& c, const Point3& p) {
-  const int s = orientation(a, b, c, p);
+  const int s = core::orient<3>({a, b, c, p});
   if (s != 0) return s;
-  if (const int nx = orient2(a.y, a.z, b.y, b.z, c.y, c.z)) return nx;
-  if (const int ny = orient2(a.z, a.x, b.z, b.x, c.z, c.x)) return ny;
-  return orient2(a.x, a.y, b.x, b.y, c.x, c.y);
+  if (const int nx = orient2(a[1], a[2], b[1], b[2], c[1], c[2])) return nx;
+  if (const int ny = orient2(a[2], a[0], b[2], b[0], c[2], c[0])) return ny;
+  return orient2(a[0], a[1], b[0], b[1], c[0], c[1]);
 }
 
 // Error-free transformations (Knuth's TwoSum, FMA TwoProduct): true when
@@ -58,8 +63,8 @@ void cross(const double u[3], const double v[3], double out[3], bool& exact) {
 // The sign of n . (q - a) when every step is exact (then +1, -1 or a true
 // 0); returns false when some step rounded.
 bool exact_dot_sign(const double n[3], const Point3& q, const Point3& a, int& sign) {
-  const double d[3] = {q.x - a.x, q.y - a.y, q.z - a.z};
-  if (!exact_sum(q.x, -a.x, d[0]) || !exact_sum(q.y, -a.y, d[1]) || !exact_sum(q.z, -a.z, d[2])) return false;
+  const double d[3] = {q[0] - a[0], q[1] - a[1], q[2] - a[2]};
+  if (!exact_sum(q[0], -a[0], d[0]) || !exact_sum(q[1], -a[1], d[1]) || !exact_sum(q[2], -a[2], d[2])) return false;
   double sum = 0;
   for (int k = 0; k < 3; ++k) {
     const double prod = n[k] * d[k];
@@ -76,22 +81,22 @@ struct Box {
   double lo[3], hi[3];
 };
 
-double coord(const Point3& p, int axis) { return axis == 0 ? p.x : axis == 1 ? p.y : p.z; }
+double coord(const Point3& p, int axis) { return p[axis]; }
 
 // In-plane axes of a box face perpendicular to `axis`.
 constexpr int plane_axes[3][2] = {{1, 2}, {0, 2}, {0, 1}};
 
 // Renders the hull triangles of each box face as a 2D field over the output
 // grid's in-plane samples (with the 2D rim rule: clamping).
-std::array<Image, 6> render_box_faces(const Mesh3& mesh, const std::vector<float>& values, const VolumeGrid& grid,
+std::array<Image, 6> render_box_faces(const core::SimplexMesh<3>& mesh, const std::vector<float>& values, const VolumeGrid& grid,
                                       const Box& box) {
   std::array<std::vector<std::array<index_t, 3>>, 6> faces;
   for (index_t t = 0; t < mesh.slot_count(); ++t) {
     if (!mesh.is_live(t)) continue;
     for (int i = 0; i < 4; ++i) {
-      if (mesh.opp[4 * t + i] != no_face) continue;
+      if (mesh.opp[4 * t + i] != no_facet) continue;
       std::array<index_t, 3> f;
-      for (int k = 0; k < 3; ++k) f[k] = mesh.tet[4 * t + face_vertex[i][k]];
+      for (int k = 0; k < 3; ++k) f[k] = mesh.cell[4 * t + face_vertex[i][k]];
       int which = -1;
       for (int axis = 0; axis < 3 && which < 0; ++axis)
         for (int s = 0; s < 2 && which < 0; ++s) {
@@ -158,9 +163,9 @@ struct TetSetup {
 
 }  // namespace
 
-Volume render_tetrahedra(const Mesh3& mesh, const std::vector<float>& values, const VolumeGrid& grid,
+Volume render_tetrahedra(const core::SimplexMesh<3>& mesh, const std::vector<float>& values, const VolumeGrid& grid,
                          Render3Stats* stats) {
-  if (mesh.tet_count() == 0) throw Error("render_tetrahedra: the mesh has no tetrahedra");
+  if (mesh.cell_count() == 0) throw Error("render_tetrahedra: the mesh has no tetrahedra");
   Render3Stats local;
   Box box{{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
   for (index_t t = 0; t < mesh.slot_count(); ++t) {
@@ -168,7 +173,7 @@ Volume render_tetrahedra(const Mesh3& mesh, const std::vector<float>& values, co
     ++local.tetrahedra;
     for (int i = 0; i < 4; ++i)
       for (int axis = 0; axis < 3; ++axis) {
-        const double c = coord(mesh.points[mesh.tet[4 * t + i]], axis);
+        const double c = coord(mesh.points[mesh.cell[4 * t + i]], axis);
         box.lo[axis] = std::min(box.lo[axis], c);
         box.hi[axis] = std::max(box.hi[axis], c);
       }
@@ -195,7 +200,7 @@ Volume render_tetrahedra(const Mesh3& mesh, const std::vector<float>& values, co
     for (index_t t = r.begin(); t != r.end(); ++t) {
       if (!mesh.is_live(t)) continue;
       TetSetup s;
-      const index_t* ids = &mesh.tet[4 * t];
+      const index_t* ids = &mesh.cell[4 * t];
       for (int i = 0; i < 4; ++i) s.p[i] = mesh.points[ids[i]];
       double lo[3], hi[3];
       for (int axis = 0; axis < 3; ++axis) {
@@ -212,19 +217,19 @@ Volume render_tetrahedra(const Mesh3& mesh, const std::vector<float>& values, co
       if (y0 > y1 || z0 > z1 || xb0 > xb1) continue;
       for (int i = 0; i < 4; ++i) {
         const Point3 &a = s.p[face_vertex[i][0]], &b = s.p[face_vertex[i][1]], &c = s.p[face_vertex[i][2]];
-        const double u[3] = {b.x - a.x, b.y - a.y, b.z - a.z}, v[3] = {c.x - a.x, c.y - a.y, c.z - a.z};
+        const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
         cross(u, v, s.raw[i], s.raw_exact[i]);
         const double* n = s.raw[i];
         const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
         for (int k = 0; k < 3; ++k) s.n[i][k] = n[k] / len;
-        s.off[i] = -(s.n[i][0] * a.x + s.n[i][1] * a.y + s.n[i][2] * a.z);
+        s.off[i] = -(s.n[i][0] * a[0] + s.n[i][1] * a[1] + s.n[i][2] * a[2]);
       }
       // lambda_i(p) = lam_i . (p - p0) / den_i, lam_1 = e2 x e3 etc., so
       // lambda_i(p_i) is exactly 1 and lambda_i(p0) exactly 0.
       const Point3& p0 = s.p[0];
       double e[3][3];
       for (int i = 0; i < 3; ++i) {
-        e[i][0] = s.p[i + 1].x - p0.x, e[i][1] = s.p[i + 1].y - p0.y, e[i][2] = s.p[i + 1].z - p0.z;
+        e[i][0] = s.p[i + 1][0] - p0[0], e[i][1] = s.p[i + 1][1] - p0[1], e[i][2] = s.p[i + 1][2] - p0[2];
       }
       for (int i = 0; i < 3; ++i) {
         const double* a = e[(i + 1) % 3];
@@ -243,7 +248,7 @@ Volume render_tetrahedra(const Mesh3& mesh, const std::vector<float>& values, co
       // grids at power-of-two scales), with side()'s tie-break read off the
       // exact normal; else side() with CGAL's exact predicates.
       auto face_side = [&](int i, const Point3& q) {
-        const double d = s.n[i][0] * q.x + s.n[i][1] * q.y + s.n[i][2] * q.z + s.off[i];
+        const double d = s.n[i][0] * q[0] + s.n[i][1] * q[1] + s.n[i][2] * q[2] + s.off[i];
         if (d > tol) return 1;
         if (d < -tol) return -1;
         int sign = 0;
@@ -261,7 +266,25 @@ Volume render_tetrahedra(const Mesh3& mesh, const std::vector<float>& values, co
       };
       for (int Z = z0; Z <= z1; ++Z) {
         const double z = zs[Z];
-        for (int Y = y0; Y <= y1; ++Y) {
+        // The rows the section at z can reach: the y extent of the points
+        // where the six edges cross the plane (an optimized mesh has long
+        // thin tetrahedra whose bounding box holds many empty rows).
+        double section_lo = INFINITY, section_hi = -INFINITY;
+        for (int i = 0; i < 4; ++i)
+          for (int j = i + 1; j < 4; ++j) {
+            const double zi = s.p[i][2], zj = s.p[j][2];
+            if ((zi - z) * (zj - z) > 0) continue;
+            const double y = zi == zj ? s.p[i][1] : s.p[i][1] + (z - zi) / (zj - zi) * (s.p[j][1] - s.p[i][1]);
+            section_lo = std::min({section_lo, y, zi == zj ? s.p[j][1] : y});
+            section_hi = std::max({section_hi, y, zi == zj ? s.p[j][1] : y});
+          }
+        int ys0 = y0, ys1 = y1;
+        if (section_lo <= section_hi) {
+          index_range(section_lo, section_hi, grid.scale_y, grid.ny, ys0, ys1);
+          ys0 = std::max(ys0, y0);
+          ys1 = std::min(ys1, y1);
+        }
+        for (int Y = ys0; Y <= ys1; ++Y) {
           const double y = ys[Y];
           // The segment of the row inside the tetrahedron, in floating point.
           double x_lo = lo[0], x_hi = hi[0];
@@ -286,9 +309,9 @@ Volume render_tetrahedra(const Mesh3& mesh, const std::vector<float>& values, co
           while (X0 <= X1 && !inside({xs[X0], y, z})) ++X0;
           while (X1 >= X0 && !inside({xs[X1], y, z})) --X1;
           if (X0 > X1) continue;
-          const double py = y - p0.y, pz = z - p0.z;
+          const double py = y - p0[1], pz = z - p0[2];
           for (int X = X0; X <= X1; ++X) {
-            const double px = xs[X] - p0.x;
+            const double px = xs[X] - p0[0];
             double v = s.z0;
             for (int i = 0; i < 3; ++i)
               v += (s.lam[i][0] * px + s.lam[i][1] * py + s.lam[i][2] * pz) / s.den[i] * s.dz[i];

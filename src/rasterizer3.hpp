@@ -33,7 +33,7 @@
 // Errors: throws ddt::Error when the mesh has no tetrahedra or its hull is
 // not an axis-aligned box.
 
-#include "mesh3.hpp"
+#include "core/simplex_mesh.hpp"
 #include "volume.hpp"
 
 #include <vector>
@@ -54,11 +54,11 @@ struct Render3Stats {
 };
 
 // Inputs:
-//   mesh    valid Mesh3 (points in input coordinates) whose hull is a box
+//   mesh    valid core::SimplexMesh<3> (points in input coordinates) whose hull is a box
 //   values  #V vertex values (one channel)
 //   grid    output size and sampling
 // Output: grid.nx x grid.ny x grid.nz volume.
-Volume render_tetrahedra(const Mesh3& mesh, const std::vector<float>& values, const VolumeGrid& grid,
+Volume render_tetrahedra(const core::SimplexMesh<3>& mesh, const std::vector<float>& values, const VolumeGrid& grid,
                          Render3Stats* stats = nullptr);
 
 }  // namespace ddt

@@ -61,6 +61,12 @@ Volume upscale_planar(const Volume& src, const int out[3], const VolumeUpscaleOp
 
 }  // namespace
 
+int volume_region_slices(int nx, int ny, int nz) {
+  const long long cells_per_slice = 6LL * std::max(1, nx - 1) * std::max(1, ny - 1);  // 6 per cube
+  if (cells_per_slice * std::max(1, nz - 1) <= 2 * core::default_region_cells) return nz;
+  return static_cast<int>(std::max(16LL, core::default_region_cells / cells_per_slice));
+}
+
 const std::vector<std::string>& volume_upscale_methods() {
   static const std::vector<std::string> names = {"ddt", "delaunay", "trilinear", "tricubic"};
   return names;
@@ -94,36 +100,39 @@ Volume upscale_volume(const Volume& src, int nx, int ny, int nz, const VolumeUps
   }
 
   auto t0 = std::chrono::steady_clock::now();
-  Mesh3 mesh = grid_tetrahedralization(src.nx, src.ny, src.nz);  // = CGAL's Delaunay of the voxel centres
+  core::SimplexMesh<3> mesh = grid_tetrahedralization(src.nx, src.ny, src.nz);  // = CGAL's Delaunay of the voxel centres
   local.seconds_triangulate = seconds_since(t0);
-  local.tetrahedra = mesh.tet_count();
-  log("tetrahedralize: " + std::to_string(mesh.points.size()) + " points, " + std::to_string(mesh.tet_count()) +
+  local.tetrahedra = mesh.cell_count();
+  log("tetrahedralize: " + std::to_string(mesh.points.size()) + " points, " + std::to_string(mesh.cell_count()) +
       " tetrahedra, " + std::to_string(local.seconds_triangulate) + " s");
 
   t0 = std::chrono::steady_clock::now();
   if (options.method == "ddt") {
-    Lawson3Options lawson;
+    core::LawsonOptions lawson;
     lawson.relative_tolerance = options.relative_tolerance;
     lawson.max_iterations = options.max_iterations;
+    const int slices = options.region_slices > 0 ? options.region_slices : volume_region_slices(src.nx, src.ny, src.nz);
+    lawson.region_vertices = slices >= src.nz ? -1 : static_cast<long long>(slices) * src.nx * src.ny;
     if (options.log)
-      lawson.on_iteration = [&](int iteration, const FlipCounts& flips, double total) {
-        char line[200];
+      lawson.on_iteration = [&](int iteration, const core::FlipCounts& flips, double total) {
+        char line[300];
         std::snprintf(line, sizeof line, "optimize: iteration %d, flips %s, cost %.9g", iteration,
                       flips.summary().c_str(), total);
         log(line);
       };
-    const Lawson3Stats ls = optimize_lawson(mesh, src.voxels, 1, cost, lawson);
+    const core::LawsonStats ls = core::optimize_lawson<3>(mesh, src.voxels, 1, cost, lawson);
     local.iterations = ls.iterations;
     local.flips = ls.flips;
     local.cost_before = ls.cost_before;
     local.cost_after = ls.cost_after;
-    local.tetrahedra = mesh.tet_count();
+    local.tetrahedra = mesh.cell_count();
     local.seconds_optimize = seconds_since(t0);
-    char line[300];
+    char line[400];
     std::snprintf(line, sizeof line,
-                  "optimize: cost %s, %d iterations, flips %s (total %lld), cost %.9g -> %.9g, %lld tetrahedra, %.3f s",
-                  cost.name, local.iterations, local.flips.summary().c_str(), local.flips.total(), local.cost_before,
-                  local.cost_after, local.tetrahedra, local.seconds_optimize);
+                  "optimize: cost %s, %d iterations, %d slabs, flips %s (total %lld), %lld tests (%lld deferred), cost "
+                  "%.9g -> %.9g, %lld tetrahedra, %.3f s",
+                  cost.name, local.iterations, ls.regions, local.flips.summary().c_str(), local.flips.total(), ls.tests,
+                  ls.deferred, local.cost_before, local.cost_after, local.tetrahedra, local.seconds_optimize);
     log(line);
   }
 

@@ -4,9 +4,10 @@
 //
 // Pipeline ("ddt"): samples at voxel centres -> Delaunay tetrahedrization
 // (CGAL, tetrahedralization.hpp) -> generalized Lawson optimization of the
-// weighted content with 2-3, 3-2, 4-4 (and hull 2-2) flips
-// (optimizer3.hpp) -> scan conversion of the piecewise-linear field at the
-// output resolution (rasterizer3.hpp).
+// weighted content with 2-3, 3-2, 4-4 (and hull 2-2) flips, on the
+// dimension-generic core with its parallel slab schedule (core/lawson.hpp)
+// -> scan conversion of the piecewise-linear field at the output
+// resolution (rasterizer3.hpp).
 //
 // Output voxel (X, Y, Z) samples the field at ((X + 0.5) / sx, ...), with
 // s = n_out / n_in per axis; outside the samples' hull (the half-voxel rim)
@@ -21,7 +22,7 @@
 //
 // Errors: throws ddt::Error (empty volume, bad size, unknown method or cost).
 
-#include "optimizer3.hpp"
+#include "core/lawson.hpp"
 #include "volume.hpp"
 
 #include <functional>
@@ -35,13 +36,16 @@ struct VolumeUpscaleOptions {
   std::string cost = "variance";      // a name from costs.hpp (the paper's 3D experiments use variance)
   double relative_tolerance = 1e-9;   // a flip must lower the local cost by more than this fraction
   int max_iterations = 10000;         // safety bound on Lawson sweeps
+  // Input slices per slab of the parallel schedule; 0: volume_region_slices.
+  // The output depends on it, never on the number of threads.
+  int region_slices = 0;
   std::function<void(const std::string&)> log;  // verbose lines; may be empty
 };
 
 struct VolumeUpscaleStats {
   long long tetrahedra = 0;
   int iterations = 0;
-  FlipCounts flips;
+  core::FlipCounts flips;
   double cost_before = 0, cost_after = 0;
   double seconds_triangulate = 0, seconds_optimize = 0, seconds_render = 0;
   bool planar = false;          // handled by the 2D method (a single slice)
@@ -53,6 +57,12 @@ struct VolumeUpscaleStats {
 inline constexpr long long default_max_voxels = 1LL << 29;
 
 const std::vector<std::string>& volume_upscale_methods();  // ddt, delaunay, trilinear, tricubic
+
+// The default slab of the schedule for an nx x ny x nz volume: about
+// core::default_region_cells tetrahedra, at least 16 slices (a flip reaches
+// one slice on either side, so thinner slabs defer too much); the whole
+// volume (one region, the sequential procedure) up to twice that.
+int volume_region_slices(int nx, int ny, int nz);
 
 // Enlarges `src` to nx x ny x nz (each >= 1).
 Volume upscale_volume(const Volume& src, int nx, int ny, int nz, const VolumeUpscaleOptions& options = {},

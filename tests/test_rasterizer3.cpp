@@ -1,15 +1,17 @@
-#include "optimizer3.hpp"
+#include "core/check_mesh.hpp"
+#include "core/lawson.hpp"
 #include "rasterizer3.hpp"
 #include "tetrahedralization.hpp"
-#include "test_support3.hpp"
 
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <random>
 
 using namespace ddt;
+using Mesh3 = core::SimplexMesh<3>;
 
 namespace {
 
@@ -29,14 +31,11 @@ void scramble(Mesh3& m, int flips, unsigned seed) {
   std::mt19937 rng(seed);
   for (int done = 0, attempt = 0; done < flips && attempt < 50 * flips; ++attempt) {
     const index_t t = std::uniform_int_distribution<index_t>(0, m.slot_count() - 1)(rng);
-    if (!m.is_live(t)) continue;
-    const int k = std::uniform_int_distribution<int>(0, 9)(rng);
-    FlipPlan plans[2];
-    int n = 0;
-    if (k < 4) n = plan_flip23(m, 4 * t + k, plans[0]) ? 1 : 0;
-    else n = plan_edge_flips(m, t, m.tet[4 * t + edge_vertex[k - 4][0]], m.tet[4 * t + edge_vertex[k - 4][1]], plans);
-    if (n == 0) continue;
-    apply_flip(m, plans[0]);
+    const unsigned mask = std::uniform_int_distribution<unsigned>(0, 15)(rng);
+    if (!m.is_live(t) || std::popcount(mask) < 2 || std::popcount(mask) > 3) continue;
+    core::FlipPlan<3> plans[2];
+    if (core::propose_flip<3>(m, t, mask, plans, 2) == 0) continue;
+    core::apply_flip<3>(m, plans[0]);
     ++done;
   }
 }
@@ -45,11 +44,11 @@ void scramble(Mesh3& m, int flips, unsigned seed) {
 
 TEST_CASE("render_tetrahedra: a linear field is reproduced, inside the hull and (clamped) on the rim") {
   const int nx = 5, ny = 4, nz = 6;
-  Mesh3 m = delaunay_tetrahedralization(test::grid_points3(nx, ny, nz));
+  Mesh3 m = grid_tetrahedralization(nx, ny, nz);
   scramble(m, 300, 3);
-  REQUIRE(check_mesh3(m) == "");
+  REQUIRE(core::check_mesh(m) == "");
   std::vector<float> values;
-  for (const Point3& p : m.points) values.push_back(static_cast<float>(linear(p.x, p.y, p.z)));
+  for (const core::Vec<3>& p : m.points) values.push_back(static_cast<float>(linear(p[0], p[1], p[2])));
   for (const double s : {1.0, 2.5, 3.0, 4.0}) {
     CAPTURE(s);
     const VolumeGrid g = grid_for(nx, ny, nz, s);
@@ -73,12 +72,12 @@ TEST_CASE("render_tetrahedra: a linear field is reproduced, inside the hull and 
 
 TEST_CASE("render_tetrahedra: input samples are reproduced bit for bit where output voxels coincide (x3, x1)") {
   const int n = 6;
-  Mesh3 m = delaunay_tetrahedralization(test::grid_points3(n, n, n));
+  Mesh3 m = grid_tetrahedralization(n, n, n);
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   std::vector<float> values(m.points.size());
   for (auto& v : values) v = u(rng);
-  optimize_lawson(m, values, 1, find_cost("variance"));
+  core::optimize_lawson<3>(m, values, 1, find_cost("variance"));
   for (const int s : {1, 3}) {
     const Volume out = render_tetrahedra(m, values, grid_for(n, n, n, s));
     int mismatches = 0;
@@ -91,7 +90,7 @@ TEST_CASE("render_tetrahedra: input samples are reproduced bit for bit where out
 }
 
 TEST_CASE("render_tetrahedra: every voxel has one owner, also at awkward scales") {
-  Mesh3 m = delaunay_tetrahedralization(test::grid_points3(7, 3, 4));
+  Mesh3 m = grid_tetrahedralization(7, 3, 4);
   scramble(m, 200, 9);
   const std::vector<float> values(m.points.size(), 1.0f);
   for (const double s : {0.5, 1.7, 2.0, 3.3}) {
@@ -105,7 +104,7 @@ TEST_CASE("render_tetrahedra: every voxel has one owner, also at awkward scales"
 }
 
 TEST_CASE("render_tetrahedra: a hull that is not a box, or no tets, is refused") {
-  const Mesh3 tet = test::mesh_from_tets({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, {{0, 1, 2, 3}});
+  const Mesh3 tet = core::mesh_from_cells<3>({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, {{0, 1, 2, 3}});
   VolumeGrid g;
   g.nx = g.ny = g.nz = 4;
   CHECK_THROWS(render_tetrahedra(tet, {0, 0, 0, 0}, g));

@@ -8,6 +8,7 @@
 #include "test_support3.hpp"
 
 #include <doctest/doctest.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <cmath>
@@ -93,6 +94,29 @@ TEST_CASE("upscale_volume: deterministic (same input, same output bits)") {
   const Volume a = upscale_volume(in, 20, 20, 20, method("ddt", "sederberg"));
   const Volume b = upscale_volume(in, 20, 20, 20, method("ddt", "sederberg"));
   CHECK(a.voxels == b.voxels);
+}
+
+TEST_CASE("upscale_volume: in slabs, the same output bits for 1 and 2 threads; slabs of default size below 47^3 are "
+          "one region") {
+  const Volume in = sample_field(find_volume_field("sphere"), 14, 14, 14, 2);
+  VolumeUpscaleOptions options = method("ddt");
+  options.region_slices = 3;
+  Volume one, two;
+  VolumeUpscaleStats st1, st2;
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    one = upscale_volume(in, 28, 28, 28, options, &st1);
+  }
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+    two = upscale_volume(in, 28, 28, 28, options, &st2);
+  }
+  CHECK(st1.flips.total() > 0);
+  CHECK(st1.flips.by_kind == st2.flips.by_kind);
+  CHECK(one.voxels == two.voxels);
+  CHECK(volume_region_slices(32, 32, 32) == 32);
+  CHECK(volume_region_slices(128, 128, 128) == 16);
+  CHECK(volume_region_slices(20, 20, 2000) == core::default_region_cells / (6 * 19 * 19));  // 6 tetrahedra a cube
 }
 
 TEST_CASE("upscale_volume: a single slice goes through the 2D method and is repeated along the thin axis") {

@@ -1,6 +1,6 @@
 #pragma once
 // ddt::core::check_mesh<D> — the validity check of a SimplexMesh<D>
-// (check_mesh and check_mesh3 in one), and is_delaunay<D>.
+// (2D's check_mesh and the former check_mesh3 in one), and is_delaunay<D>.
 //
 // check_mesh<D> checks, in this order, and names the first problem:
 //   sizes      cell and opp hold (D+1) * slots entries;

@@ -3,6 +3,7 @@
 #include "core/predicates.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <utility>
 
 namespace ddt::core {
@@ -16,12 +17,14 @@ bool contains(const Array& list, int count, index_t x) {
 }
 
 // The cells containing every vertex of A, found across the facets that
-// contain A (the star of conv A is connected through them). False when
-// there are more than max_flip_cells<D>.
+// contain A (the star of conv A is connected through them). Returns how
+// many; -1 when there are more than max_flip_cells<D>, -2 when the walk
+// would leave the scope.
+constexpr int star_too_large = -1, star_out_of_scope = -2;
 template <int D>
-bool gather_star(const SimplexMesh<D>& mesh, index_t start, const std::array<index_t, D + 1>& a, int a_count,
-                 std::array<index_t, max_flip_cells<D>>& star, int& star_count) {
-  star_count = 0;
+int gather_star(const SimplexMesh<D>& mesh, index_t start, const std::array<index_t, D + 1>& a, int a_count,
+                std::array<index_t, max_flip_cells<D>>& star, const ReadScope* scope, int cap = max_flip_cells<D>) {
+  int star_count = 0;
   star[star_count++] = start;
   for (int k = 0; k < star_count; ++k) {
     const index_t c = star[k];
@@ -31,25 +34,38 @@ bool gather_star(const SimplexMesh<D>& mesh, index_t start, const std::array<ind
       if (g == no_facet) continue;
       const index_t next = cell_of<D>(g);
       if (contains(star, star_count, next)) continue;
-      if (star_count == max_flip_cells<D>) return false;
+      if (scope && !scope->reads(next)) return star_out_of_scope;
+      if (star_count == cap) return star_too_large;
       star[star_count++] = next;
     }
   }
-  return true;
+  return star_count;
+}
+
+// The most cells a flip removing a simplex of a vertices can remove. The
+// circuit A u B spans a k-flat, a <= k <= D (|B| = k + 2 - a >= 2), and the
+// flip removes |B| cells per link simplex: one link (none) when k = D; when
+// k = D - 1 the links are single vertices on either side of the hyperplane,
+// at most two; lower circuits (k <= D - 2, possible when a <= D - 2) have
+// links of any size. So 2 for a facet, 4 for an edge in 3D.
+template <int D>
+constexpr int largest_star(int a) {
+  return a <= D - 2 ? max_flip_cells<D> : std::max(D + 2 - a, 2 * (D + 1 - a));
 }
 
 // With the circuit (A, B) fixed, checks that the star is exactly
 // {(A u B \ b) u L : b in B, L in Links} and fills the plan's cells.
 template <int D>
 bool build_plan(const SimplexMesh<D>& mesh, const std::array<index_t, max_flip_cells<D>>& star, int star_count,
-                FlipPlan<D>& plan) {
+                FlipPlan<D>& plan, bool lattice) {
   constexpr int cap = max_flip_cells<D>;
   const int link_size = D - plan.circuit_dimension();  // vertices per link simplex
-  std::array<std::array<index_t, D + 1>, cap> links{};
-  std::array<unsigned, cap> missing_b{};  // per link: bit j when (A u B \ b_j) u L is present
+  std::array<std::array<index_t, D + 1>, cap> links;  // the first link_count are set
+  std::array<unsigned, cap> missing_b;  // per link: bit j when (A u B \ b_j) u L is present
   int link_count = 0;
   for (int s = 0; s < star_count; ++s) {
-    std::array<index_t, D + 1> rest{};
+    std::array<index_t, D + 1> rest;  // the link vertices, then sentinels (sorted last)
+    rest.fill(std::numeric_limits<index_t>::max());
     int rest_count = 0, in_b = 0;
     unsigned present = 0;
     for (int i = 0; i <= D; ++i) {
@@ -64,7 +80,7 @@ bool build_plan(const SimplexMesh<D>& mesh, const std::array<index_t, max_flip_c
         rest[rest_count++] = v;
     }
     if (in_b != plan.b_count - 1 || rest_count != link_size) return false;
-    std::sort(rest.begin(), rest.begin() + rest_count);
+    std::sort(rest.begin(), rest.end());
     const unsigned missing = ((1u << plan.b_count) - 1) & ~present;
     int l = 0;
     while (l < link_count && links[l] != rest) ++l;
@@ -88,7 +104,7 @@ bool build_plan(const SimplexMesh<D>& mesh, const std::array<index_t, max_flip_c
         if (j != skip) v[n++] = plan.a[j];
       for (int j = 0; j < plan.b_count; ++j) v[n++] = plan.b[j];
       for (int j = 0; j < link_size; ++j) v[n++] = links[l][j];
-      const int o = orient_ids<D>(mesh.points, v);
+      const int o = orient_ids<D>(mesh.points, v, lattice);
       if (o == 0) return false;  // unreachable in exact arithmetic: (A, B) is a Radon partition
       if (o < 0) std::swap(v[0], v[1]);
       plan.inserted[plan.inserted_count++] = v;
@@ -104,7 +120,8 @@ bool build_plan(const SimplexMesh<D>& mesh, const std::array<index_t, max_flip_c
 // end, D - x transpositions from a negative order, so l_x = l_y. So x and
 // y are on B's side, and A's vertices are tested first to reject early.
 template <int D>
-bool a_is_a_side(const std::array<Vec<D>, D + 2>& s, int x, unsigned a_mask, std::array<int, D + 2>& sign) {
+bool a_is_a_side(const std::array<Vec<D>, D + 2>& s, int x, unsigned a_mask, std::array<int, D + 2>& sign,
+                 bool lattice) {
   const int b_side = (D % 2 == 0) ? -1 : 1;
   sign[D + 1] = b_side;
   sign[x] = b_side;
@@ -112,7 +129,7 @@ bool a_is_a_side(const std::array<Vec<D>, D + 2>& s, int x, unsigned a_mask, std
     std::array<Vec<D>, D + 1> rest;
     for (int j = 0, n = 0; j < D + 2; ++j)
       if (j != i) rest[n++] = s[j];
-    const int o = orient<D>(rest);
+    const int o = orient<D>(rest, lattice);
     return (i % 2 == 0) ? o : -o;
   };
   for (int i = 0; i <= D; ++i)
@@ -136,7 +153,19 @@ std::string flip_name(const FlipPlan<D>& plan) {
 }
 
 template <int D>
-int propose_flip(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mask, FlipPlan<D>* plans, int max_plans) {
+int simplex_star(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mask,
+                 std::array<index_t, max_flip_cells<D>>& star, const ReadScope* scope) {
+  std::array<index_t, D + 1> a{};
+  int a_count = 0;
+  for (int i = 0; i <= D; ++i)
+    if (simplex_mask & (1u << i)) a[a_count++] = mesh.vertex(start, i);
+  return std::max(-1, gather_star(mesh, start, a, a_count, star, scope));
+}
+
+template <int D>
+int propose_flip(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mask, FlipPlan<D>* plans, int max_plans,
+                 const ProposalOptions& options) {
+  const ReadScope* scope = options.scope;
   FlipPlan<D> plan;
   for (int i = 0; i <= D; ++i)
     if (simplex_mask & (1u << i)) plan.a[plan.a_count++] = mesh.vertex(start, i);
@@ -144,6 +173,12 @@ int propose_flip(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mas
 
   std::array<index_t, max_flip_cells<D>> star;
   int star_count = 0;  // gathered when a circuit first passes (most items fail before)
+  if (plan.a_count < D && largest_star<D>(plan.a_count) < max_flip_cells<D>) {
+    // A star too large for any flip is rejected before any predicate.
+    star_count = gather_star(mesh, start, plan.a, plan.a_count, star, scope, largest_star<D>(plan.a_count));
+    if (star_count == star_too_large) return 0;
+    if (star_count == star_out_of_scope) return -1;
+  }
 
   // Each apex y across a facet of the start cell that contains A closes a
   // set of D + 2 points; a valid flip's circuit is the dependence of one of
@@ -154,13 +189,14 @@ int propose_flip(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mas
     if (simplex_mask & (1u << x)) continue;
     const index_t g = mesh.opp[(D + 1) * start + x];
     if (g == no_facet) continue;
+    if (scope && !scope->reads(cell_of<D>(g))) return -1;
     std::array<index_t, D + 2> ids;
     std::array<Vec<D>, D + 2> points;
     for (int i = 0; i <= D; ++i) ids[i] = start_vertices[i];
     ids[D + 1] = mesh.apex_across((D + 1) * start + x);
     for (int i = 0; i < D + 2; ++i) points[i] = mesh.points[ids[i]];
     std::array<int, D + 2> sign;
-    if (!a_is_a_side<D>(points, x, simplex_mask, sign)) continue;
+    if (!a_is_a_side<D>(points, x, simplex_mask, sign, options.lattice_exact)) continue;
     plan.b_count = 0;
     for (int i = 0; i < D + 2; ++i)
       if (sign[i] == sign[D + 1]) plan.b[plan.b_count++] = ids[i];
@@ -172,15 +208,20 @@ int propose_flip(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mas
           std::equal(plan.b.begin(), plan.b.begin() + plan.b_count, plans[p].b.begin()))
         seen = true;
     if (seen) continue;
-    if (star_count == 0 && !gather_star(mesh, start, plan.a, plan.a_count, star, star_count)) return 0;
-    if (build_plan(mesh, star, star_count, plan)) plans[count++] = plan;
+    if (star_count == 0) {
+      star_count = gather_star(mesh, start, plan.a, plan.a_count, star, scope);
+      if (star_count == star_too_large) return 0;
+      if (star_count == star_out_of_scope) return -1;
+    }
+    if (build_plan(mesh, star, star_count, plan, options.lattice_exact)) plans[count++] = plan;
   }
   return count;
 }
 
 template <int D>
-void apply_flip(SimplexMesh<D>& mesh, const FlipPlan<D>& plan, index_t* new_slots) {
+void apply_flip(SimplexMesh<D>& mesh, const FlipPlan<D>& plan, index_t* new_slots, std::vector<index_t>* free_slots) {
   constexpr int cap = max_flip_cells<D>;
+  std::vector<index_t>& pool = free_slots ? *free_slots : mesh.free_slots;
   // The region's boundary facets that have an outside neighbour.
   struct Outer {
     FacetKey<D> key;
@@ -202,9 +243,9 @@ void apply_flip(SimplexMesh<D>& mesh, const FlipPlan<D>& plan, index_t* new_slot
   for (int k = 0; k < plan.inserted_count; ++k) {
     if (k < plan.removed_count) {
       slots[k] = plan.removed[k];
-    } else if (!mesh.free_slots.empty()) {
-      slots[k] = mesh.free_slots.back();
-      mesh.free_slots.pop_back();
+    } else if (!pool.empty()) {
+      slots[k] = pool.back();
+      pool.pop_back();
     } else {
       slots[k] = mesh.slot_count();
       mesh.cell.insert(mesh.cell.end(), D + 1, no_vertex);
@@ -214,7 +255,7 @@ void apply_flip(SimplexMesh<D>& mesh, const FlipPlan<D>& plan, index_t* new_slot
   for (int k = plan.inserted_count; k < plan.removed_count; ++k) {
     const index_t c = plan.removed[k];
     for (int i = 0; i <= D; ++i) mesh.cell[(D + 1) * c + i] = no_vertex, mesh.opp[(D + 1) * c + i] = no_facet;
-    mesh.free_slots.push_back(c);
+    pool.push_back(c);
   }
   for (int k = 0; k < plan.inserted_count; ++k)
     for (int i = 0; i <= D; ++i) mesh.cell[(D + 1) * slots[k] + i] = plan.inserted[k][i];
@@ -248,8 +289,10 @@ void apply_flip(SimplexMesh<D>& mesh, const FlipPlan<D>& plan, index_t* new_slot
 
 #define DDT_CORE_INSTANTIATE(D)                                                              \
   template std::string flip_name<D>(const FlipPlan<D>&);                                     \
-  template int propose_flip<D>(const SimplexMesh<D>&, index_t, unsigned, FlipPlan<D>*, int); \
-  template void apply_flip<D>(SimplexMesh<D>&, const FlipPlan<D>&, index_t*);
+  template int propose_flip<D>(const SimplexMesh<D>&, index_t, unsigned, FlipPlan<D>*, int, const ProposalOptions&); \
+  template int simplex_star<D>(const SimplexMesh<D>&, index_t, unsigned, std::array<index_t, max_flip_cells<D>>&, \
+                               const ReadScope*);                                                              \
+  template void apply_flip<D>(SimplexMesh<D>&, const FlipPlan<D>&, index_t*, std::vector<index_t>*);
 DDT_CORE_INSTANTIATE(2)
 DDT_CORE_INSTANTIATE(3)
 DDT_CORE_INSTANTIATE(4)

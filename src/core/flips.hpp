@@ -55,6 +55,22 @@ namespace ddt::core {
 template <int D>
 inline constexpr int max_flip_cells = 4 * D;
 
+// The cells a caller may read: c when owner[c] == region (the parallel
+// schedule gives each region the cells it owns; core/lawson.hpp).
+struct ReadScope {
+  const std::int32_t* owner = nullptr;
+  std::int32_t region = 0;
+  bool reads(index_t c) const { return owner[c] == region; }
+};
+
+// How propose_flip reads the mesh. scope: the cells it may read (null: all).
+// lattice_exact: the points satisfy predicates.hpp's lattice_exact, so
+// orientations are plain determinants (the same signs, faster).
+struct ProposalOptions {
+  const ReadScope* scope = nullptr;
+  bool lattice_exact = false;
+};
+
 // A flip ready to apply: the cells it removes (slots) and the positively
 // oriented cells it inserts, with the circuit that defines it.
 template <int D>
@@ -87,16 +103,32 @@ std::string flip_name(const FlipPlan<D>& plan);
 // how many. Exact (predicates.hpp). Preconditions: check_mesh<D> is "";
 // start is live; simplex_mask has 2 .. D bits (others give 0 plans).
 // Complexity: O(max_flip_cells (D + 2)) orientation tests.
+// With options.scope, returns -1, having read nothing outside it, when the
+// flip would need other cells.
 template <int D>
-int propose_flip(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mask, FlipPlan<D>* plans, int max_plans);
+int propose_flip(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mask, FlipPlan<D>* plans, int max_plans,
+                 const ProposalOptions& options = {});
+
+// The star of the simplex given by `simplex_mask` in cell `start`: every
+// cell containing its vertices, found across the facets that contain them.
+// Writes the slots (start first) to star and returns how many; -1 when
+// there are more than max_flip_cells<D>, or (with scope) when the walk
+// would leave the scope.
+template <int D>
+int simplex_star(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mask,
+                 std::array<index_t, max_flip_cells<D>>& star, const ReadScope* scope = nullptr);
 
 // Replaces plan.removed by plan.inserted and relinks every facet by its
 // key: inside the region among the new cells, on its boundary to the old
-// outside neighbours, hull facets unlinked (mesh3.cpp's apply_flip for any
-// D). Reuses the removed slots first, then free slots (last freed first),
+// outside neighbours, hull facets unlinked. Reuses the removed slots first, then free slots (last freed first),
 // then appends. Writes the new cells' slots to new_slots when given.
-// Relinks only; precondition: the plan came from propose_flip on this mesh.
+// free_slots (optional) replaces mesh.free_slots as the list slots are taken
+// from and freed to (a region's own pool in the parallel schedule; when it
+// holds inserted_count - removed_count slots or more, the arrays do not
+// grow). Relinks only; precondition: the plan came from propose_flip on
+// this mesh.
 template <int D>
-void apply_flip(SimplexMesh<D>& mesh, const FlipPlan<D>& plan, index_t* new_slots = nullptr);
+void apply_flip(SimplexMesh<D>& mesh, const FlipPlan<D>& plan, index_t* new_slots = nullptr,
+                std::vector<index_t>* free_slots = nullptr);
 
 }  // namespace ddt::core

@@ -8,6 +8,7 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace ddt::core {
 namespace {
@@ -32,6 +33,22 @@ std::array<typename KernelD<D>::Point_d, D + 1> points_d(const std::array<Vec<D>
 }
 
 }  // namespace
+
+template <int D>
+bool lattice_exact(const std::vector<Vec<D>>& points) {
+  double largest = 0;
+  int s = 0;
+  for (const Vec<D>& p : points)
+    for (double c : p) {
+      if (!std::isfinite(c)) return false;
+      largest = std::max(largest, std::abs(c));
+      while (std::ldexp(c, s) != std::floor(std::ldexp(c, s)))
+        if (++s > 30) return false;
+    }
+  double bound = std::pow(std::ldexp(2 * largest, s), D);
+  for (int k = 2; k <= D; ++k) bound *= k;
+  return bound <= 9007199254740992.0;  // 2^53
+}
 
 template <int D>
 int orient(const std::array<Vec<D>, D + 1>& p) {
@@ -102,6 +119,7 @@ std::array<int, D + 2> radon_partition(const std::array<Vec<D>, D + 2>& s) {
 
 #define DDT_CORE_INSTANTIATE(D)                                               \
   template int orient<D>(const std::array<Vec<D>, D + 1>&);                   \
+  template bool lattice_exact<D>(const std::vector<Vec<D>>&);                 \
   template int in_sphere<D>(const std::array<Vec<D>, D + 1>&, const Vec<D>&); \
   template int perturbed_orient<D>(const std::array<Vec<D>, D + 1>&);         \
   template std::array<int, D + 2> radon_partition<D>(const std::array<Vec<D>, D + 2>&);

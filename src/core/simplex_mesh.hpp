@@ -1,6 +1,6 @@
 #pragma once
 // ddt::core::SimplexMesh<D> — a D-dimensional simplicial mesh as flat arrays,
-// the one layout every dimension shares (mesh3.hpp's Mesh3 is this for D = 3).
+// the one layout every dimension shares (the volume path uses D = 3).
 //
 // Numbering convention
 //   Cell c owns slots (D+1)c .. (D+1)c + D. cell[(D+1)c + i] is its vertex i;

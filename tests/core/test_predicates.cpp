@@ -236,3 +236,47 @@ TEST_CASE_TEMPLATE("core radon_partition: both triangulations {S minus a} and {S
     CHECK(side_a == doctest::Approx(side_b).epsilon(1e-9));
   }
 }
+
+TEST_CASE_TEMPLATE("core lattice_exact: orient_lattice equals orient on lattices that satisfy it, degenerate or not", T,
+                   Dim<2>, Dim<3>, Dim<4>) {
+  constexpr int D = T::value;
+  // Voxel centres (i + 0.5) up to the largest side the precondition allows
+  // in this dimension, and quarter-integers; many exactly degenerate sets.
+  const int side = D == 2 ? 1 << 24 : D == 3 ? 1 << 14 : 1 << 10;
+  std::mt19937 rng(31 + D);
+  for (const double step : {0.5, 0.25}) {
+    std::uniform_int_distribution<int> index(0, static_cast<int>(side * 0.5 / step) - 1);
+    std::uniform_int_distribution<int> small(0, 3);
+    int zeros = 0;
+    for (int t = 0; t < 2000; ++t) {
+      std::vector<Vec<D>> points(D + 1);
+      for (Vec<D>& p : points)
+        for (double& c : p) c = (t % 2 ? small(rng) : index(rng)) * step + step;  // small: often degenerate
+      std::array<Vec<D>, D + 1> p;
+      std::copy(points.begin(), points.end(), p.begin());
+      REQUIRE(lattice_exact<D>(points));
+      CHECK(orient_lattice<D>(p) == orient<D>(p));
+      zeros += orient<D>(p) == 0;
+    }
+    CHECK(zeros > 0);
+  }
+}
+
+TEST_CASE_TEMPLATE("core lattice_exact: refuses coordinates off any lattice, too large, or not finite", T, Dim<2>,
+                   Dim<3>, Dim<4>) {
+  constexpr int D = T::value;
+  std::vector<Vec<D>> points(2);
+  points[1].fill(0.5);
+  CHECK(lattice_exact<D>(points));
+  points[1][0] = 0.1;  // not a multiple of any 2^-s with s <= 30
+  CHECK_FALSE(lattice_exact<D>(points));
+  points[1][0] = std::ldexp(1.0, 60 / D);  // D! (2 x)^D > 2^53
+  CHECK_FALSE(lattice_exact<D>(points));
+  points[1][0] = INFINITY;
+  CHECK_FALSE(lattice_exact<D>(points));
+  // Kettner et al.'s classroom points are doubles near 0.5 with 53-bit
+  // mantissas: no lattice that keeps the determinant exact.
+  std::vector<Vec<D>> fine(2);
+  fine[1].fill(0.5 + std::ldexp(1.0, -52));
+  CHECK_FALSE(lattice_exact<D>(fine));
+}

@@ -1,0 +1,426 @@
+#include "core/lawson.hpp"
+
+#include "core/predicates.hpp"
+#include "error.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <bit>
+#include <cstdint>
+#include <limits>
+
+namespace ddt::core {
+namespace {
+
+// Simplices of a cell with 2 .. D vertices: 2^(D+1) subsets minus the empty
+// one, the D + 1 vertices and the cell.
+template <int D>
+inline constexpr int items_per_cell = (1 << (D + 1)) - (D + 1) - 2;
+
+// Local vertex masks of the items: facet j first (every vertex but j), then
+// by decreasing size, then by mask.
+template <int D>
+std::array<unsigned, items_per_cell<D>> make_item_masks() {
+  std::array<unsigned, items_per_cell<D>> masks{};
+  const unsigned all = (1u << (D + 1)) - 1;
+  int n = 0;
+  for (int j = 0; j <= D; ++j) masks[n++] = all & ~(1u << j);
+  for (int size = D - 1; size >= 2; --size)
+    for (unsigned m = 0; m <= all; ++m)
+      if (std::popcount(m) == size) masks[n++] = m;
+  return masks;
+}
+
+template <int D>
+const std::array<unsigned, items_per_cell<D>> item_masks = make_item_masks<D>();
+
+// What one band (or the single region) does in a phase.
+struct RegionRun {
+  std::int32_t region = 0;
+  std::vector<index_t> cells;   // phase 0: the cells whose initial items it scans, in order
+  std::vector<index_t> items;   // later phases: the items handed to it
+  std::vector<index_t> pool;    // slots for new cells
+  std::vector<index_t> deferred;
+  FlipCounts flips;  // dimension set by the first +=
+  long long tests = 0, deferred_tests = 0;
+  double gains = 0;  // in the order of the flips
+  int iterations = 0;
+};
+
+template <int D>
+class Optimizer {
+ public:
+  static constexpr int P = items_per_cell<D>;
+
+  Optimizer(SimplexMesh<D>& mesh, const std::vector<float>& values, int K, const CostFunction& cost,
+            const LawsonOptions& options)
+      : mesh_(mesh), z_(values.data()), K_(K), cost_(cost), options_(options),
+        facet_(cost.form != CostForm::simplex_weight), lattice_(lattice_exact<D>(mesh.points)) {}
+
+  // The first List_active as a mask per cell (bit j: item P c + j): each
+  // facet from its smaller slot, each lower simplex from the smallest slot
+  // of its star (when the star is small enough to flip).
+  std::vector<std::uint32_t> initial_items() const {
+    const index_t n = mesh_.slot_count();
+    std::vector<std::uint32_t> mask(n, 0);
+    tbb::parallel_for(index_t(0), n, [&](index_t c) {
+      if (!mesh_.is_live(c)) return;
+      std::uint32_t m = 0;
+      for (int i = 0; i <= D; ++i) {
+        const index_t g = mesh_.opp[(D + 1) * c + i];
+        if (g != no_facet && cell_of<D>(g) > c) m |= 1u << i;
+      }
+      for (int j = D + 1; j < P; ++j) {
+        std::array<index_t, max_flip_cells<D>> star;
+        const int count = simplex_star<D>(mesh_, c, item_masks<D>[j], star);
+        if (count > 0 && *std::min_element(star.begin(), star.begin() + count) == c) m |= 1u << j;
+      }
+      mask[c] = m;
+    });
+    return mask;
+  }
+
+  // Lawson's loop over one region's items; scope null: the whole mesh.
+  // on_iteration(iteration, flips in it) after each iteration.
+  template <class OnIteration>
+  void run_region(RegionRun& run, const std::vector<std::uint32_t>* initial, const ReadScope* scope,
+                  OnIteration on_iteration) {
+    std::vector<index_t> active, candidate;
+    auto touch = [&](index_t item) {
+      if (scope && !scope->reads(item / P)) {
+        run.deferred.push_back(item);
+        return;
+      }
+      if (static_cast<std::size_t>(item) >= pending_.size()) pending_.resize(static_cast<std::size_t>(P) * mesh_.slot_count(), 0);
+      if (pending_[item]) return;
+      pending_[item] = 1;
+      candidate.push_back(item);
+    };
+    auto test = [&](index_t item, FlipCounts& flips_now) {
+      pending_[item] = 0;
+      ++run.tests;
+      run.gains += improve(item, scope, run, flips_now, touch);
+    };
+    bool scan = initial != nullptr;
+    active = std::move(run.items);  // their pending flags are set
+    while ((scan || !active.empty()) && run.iterations < options_.max_iterations) {
+      ++run.iterations;
+      FlipCounts flips_now;
+      flips_now.dimension = D;
+      if (scan) {
+        for (index_t c : run.cells)
+          for (std::uint32_t m = (*initial)[c]; m; m &= m - 1) test(P * c + std::countr_zero(m), flips_now);
+        scan = false;
+      } else {
+        for (index_t item : active) test(item, flips_now);
+      }
+      run.flips += flips_now;
+      active.swap(candidate);
+      candidate.clear();
+      on_iteration(run.iterations, flips_now);
+      if (flips_now.total() == 0) break;
+    }
+    for (index_t item : active) pending_[item] = 0;  // left over at max_iterations: dropped
+  }
+
+  double total() const { return total_cost<D>(mesh_, z_, K_, cost_); }
+
+  // Flags the items of the first List_active as pending.
+  void set_pending(const std::vector<std::uint32_t>& initial) {
+    pending_.assign(static_cast<std::size_t>(P) * mesh_.slot_count(), 0);
+    tbb::parallel_for(index_t(0), static_cast<index_t>(initial.size()), [&](index_t c) {
+      for (std::uint32_t m = initial[c]; m; m &= m - 1) pending_[P * c + std::countr_zero(m)] = 1;
+    });
+  }
+
+  std::vector<char> pending_;        // per item: on a list, not yet tested
+  std::vector<std::int32_t> owner_;  // per slot: the band owning it this phase
+
+ private:
+  // Tests one item; applies the best improving flip (counted in flips)
+  // and returns its gain, else 0. Defers the item (run.deferred) when its flip reaches outside
+  // the scope or needs more slots than the pool holds.
+  template <class Touch>
+  double improve(index_t item, const ReadScope* scope, RegionRun& run, FlipCounts& flips, Touch touch) {
+    const index_t c = item / P;
+    if (!mesh_.is_live(c)) return 0;
+    FlipPlan<D> plans[2];
+    const int n = propose_flip<D>(mesh_, c, item_masks<D>[item % P], plans, 2, {scope, lattice_});
+    auto defer = [&] {
+      run.deferred.push_back(item);
+      ++run.deferred_tests;
+      return 0.0;
+    };
+    if (n < 0) return defer();
+    if (n == 0) return 0;
+    if (scope)  // the flip rewrites the links of the cells around it, and facet costs read them
+      for (int k = 0; k < plans[0].removed_count; ++k)
+        for (int i = 0; i <= D; ++i) {
+          const index_t g = mesh_.opp[(D + 1) * plans[0].removed[k] + i];
+          if (g != no_facet && !scope->reads(cell_of<D>(g))) return defer();
+        }
+    // A simplex weight depends only on the vertex values: where they are
+    // all equal every cell has the same weight and the content is kept.
+    if (!facet_ && uniform_values(plans[0])) return 0;
+    double gains[2] = {0, 0};
+    int best = -1;
+    for (int p = 0; p < n; ++p) {
+      const LocalCosts lc = flip_costs<D>(mesh_, z_, K_, cost_, plans[p]);
+      if (!lc.improves(options_.relative_tolerance)) continue;
+      gains[p] = lc.gain();
+      if (best < 0 || gains[p] > gains[best]) best = p;
+    }
+    if (best < 0) return 0;
+    const FlipPlan<D>& plan = plans[best];
+    const int needed = plan.inserted_count - plan.removed_count;
+    if (scope && needed > static_cast<int>(run.pool.size())) return defer();
+    std::array<index_t, max_flip_cells<D>> slots;
+    apply_flip<D>(mesh_, plan, slots.data(), scope ? &run.pool : nullptr);
+    flips.add(plan.removed_count, plan.inserted_count);
+    touch_around(slots.data(), plan.inserted_count, touch);
+    return gains[best];
+  }
+
+  bool uniform_values(const FlipPlan<D>& plan) const {
+    const float* first = z_ + static_cast<std::size_t>(mesh_.vertex(plan.removed[0], 0)) * K_;
+    for (int k = 0; k < plan.removed_count; ++k)
+      for (int i = 0; i <= D; ++i) {
+        const float* v = z_ + static_cast<std::size_t>(mesh_.vertex(plan.removed[k], i)) * K_;
+        for (int c = 0; c < K_; ++c)
+          if (v[c] != first[c]) return false;
+      }
+    return true;
+  }
+
+  // The items of the new cells, and for facet costs of their neighbours;
+  // a facet from its smaller slot, a lower simplex once per flip.
+  template <class Touch>
+  void touch_around(const index_t* slots, int count, Touch touch) const {
+    constexpr int cap = max_flip_cells<D> * (D + 2);
+    std::array<index_t, cap> cells;
+    int n_cells = 0;
+    for (int k = 0; k < count; ++k) cells[n_cells++] = slots[k];
+    if (facet_)
+      for (int k = 0; k < count; ++k)
+        for (int i = 0; i <= D; ++i) {
+          const index_t g = mesh_.opp[(D + 1) * slots[k] + i];
+          if (g == no_facet) continue;
+          const index_t u = cell_of<D>(g);
+          if (std::find(cells.begin(), cells.begin() + n_cells, u) == cells.begin() + n_cells) cells[n_cells++] = u;
+        }
+    using Key = std::array<index_t, D>;
+    std::array<Key, cap*(P - D - 1 > 0 ? P - D - 1 : 1)> seen;
+    int n_seen = 0;
+    for (int j = 0; j < n_cells; ++j) {
+      const index_t c = cells[j];
+      for (int i = 0; i <= D; ++i) {
+        const index_t g = mesh_.opp[(D + 1) * c + i];
+        if (g == no_facet) continue;
+        touch(cell_of<D>(g) < c ? P * cell_of<D>(g) + local_of<D>(g) : P * c + i);
+      }
+      for (int m = D + 1; m < P; ++m) {
+        Key key;  // the simplex's vertex ids, then sentinels (sorted last)
+        key.fill(std::numeric_limits<index_t>::max());
+        for (int i = 0, n = 0; i <= D; ++i)
+          if (item_masks<D>[m] & (1u << i)) key[n++] = mesh_.vertex(c, i);
+        std::sort(key.begin(), key.end());
+        if (std::find(seen.begin(), seen.begin() + n_seen, key) != seen.begin() + n_seen) continue;
+        seen[n_seen++] = key;
+        touch(P * c + m);
+      }
+    }
+  }
+
+  SimplexMesh<D>& mesh_;
+  const float* z_;
+  int K_;
+  const CostFunction& cost_;
+  const LawsonOptions& options_;
+  bool facet_;
+  bool lattice_;  // lattice_exact(mesh.points): plain orientations
+};
+
+// The band of vertex v in a phase whose bands are shifted by `shift`.
+std::int32_t band_of(index_t v, long long size, long long shift) {
+  return static_cast<std::int32_t>((v + shift) / size);
+}
+
+template <int D>
+void run_phases(Optimizer<D>& opt, SimplexMesh<D>& mesh, long long size, const LawsonOptions& options,
+                LawsonStats& stats) {
+  constexpr int P = Optimizer<D>::P;
+  const std::vector<std::uint32_t> initial = opt.initial_items();
+  const long long V = static_cast<long long>(mesh.points.size());
+  double cost_now = stats.cost_before;
+  std::vector<index_t> list;  // items handed to the next phase, in a fixed order
+  long long flips_last = -1, flips_before_last = -1;
+  const int max_phases = 64;
+  auto no_report = [](int, const FlipCounts&) {};
+  for (int phase = 0; phase == 0 || !list.empty(); ++phase) {
+    if (phase >= options.max_iterations) break;
+    const bool single = phase >= 2 && ((flips_last == 0 && flips_before_last == 0) || phase >= max_phases);
+    FlipCounts flips_now;
+    flips_now.dimension = D;
+    if (single) {
+      RegionRun run;
+      run.items = std::move(list);
+      list.clear();
+      opt.run_region(run, nullptr, nullptr, no_report);
+      flips_now = run.flips;
+      stats.tests += run.tests;
+      cost_now -= run.gains;
+    } else {
+      const long long shift = phase % 2 == 1 ? size / 2 : 0;
+      const std::int32_t regions = band_of(static_cast<index_t>(V - 1), size, shift) + 1;
+      if (phase == 0) stats.regions = regions;
+      std::vector<RegionRun> runs(regions);
+      opt.owner_.assign(mesh.slot_count(), -1);
+      tbb::parallel_for(index_t(0), mesh.slot_count(), [&](index_t c) {
+        if (!mesh.is_live(c)) return;
+        index_t low = mesh.vertex(c, 0);
+        for (int i = 1; i <= D; ++i) low = std::min(low, mesh.vertex(c, i));
+        opt.owner_[c] = band_of(low, size, shift);
+      });
+      // Pools: free slots first, then fresh ones; about 1/8 of a band's cells.
+      const index_t reserve = static_cast<index_t>(std::max<long long>(256, mesh.cell_count() / regions / 8));
+      for (std::int32_t r = 0; r < regions; ++r) {
+        runs[r].region = r;
+        for (index_t k = 0; k < reserve; ++k) {
+          index_t slot;
+          if (!mesh.free_slots.empty()) {
+            slot = mesh.free_slots.back();
+            mesh.free_slots.pop_back();
+          } else {
+            slot = mesh.slot_count();
+            mesh.cell.insert(mesh.cell.end(), D + 1, no_vertex);
+            mesh.opp.insert(mesh.opp.end(), D + 1, no_facet);
+            opt.owner_.push_back(-1);
+          }
+          opt.owner_[slot] = r;
+          runs[r].pool.push_back(slot);
+        }
+        std::reverse(runs[r].pool.begin(), runs[r].pool.end());  // the lowest slot is taken first
+      }
+      if (phase == 0) opt.set_pending(initial);
+      opt.pending_.resize(static_cast<std::size_t>(P) * mesh.slot_count(), 0);
+      if (phase == 0) {
+        for (index_t c = 0; c < static_cast<index_t>(initial.size()); ++c)
+          if (initial[c]) runs[opt.owner_[c]].cells.push_back(c);
+      } else {
+        for (index_t item : list) {
+          const std::int32_t r = opt.owner_[item / P];
+          if (r >= 0) runs[r].items.push_back(item);
+          else opt.pending_[item] = 0;  // its cell was removed
+        }
+        list.clear();
+      }
+      tbb::parallel_for(std::int32_t(0), regions, [&](std::int32_t r) {
+        const ReadScope scope{opt.owner_.data(), r};
+        opt.run_region(runs[r], phase == 0 ? &initial : nullptr, &scope, no_report);
+      });
+      for (RegionRun& run : runs) {
+        flips_now += run.flips;
+        stats.tests += run.tests;
+        stats.deferred += run.deferred_tests;
+        cost_now -= run.gains;
+        for (index_t item : run.deferred) {
+          if (opt.pending_[item]) continue;
+          opt.pending_[item] = 1;
+          list.push_back(item);
+        }
+        mesh.free_slots.insert(mesh.free_slots.end(), run.pool.rbegin(), run.pool.rend());
+      }
+    }
+    stats.flips += flips_now;
+    stats.iterations = phase + 1;
+    if (options.on_iteration) options.on_iteration(phase + 1, flips_now, cost_now);
+    flips_before_last = flips_last;
+    flips_last = flips_now.total();
+  }
+}
+
+}  // namespace
+
+long long FlipCounts::total() const {
+  long long sum = 0;
+  for (long long n : by_kind) sum += n;
+  return sum;
+}
+
+FlipCounts& FlipCounts::operator+=(const FlipCounts& other) {
+  dimension = std::max(dimension, other.dimension);
+  for (std::size_t k = 0; k < by_kind.size(); ++k) by_kind[k] += other.by_kind[k];
+  return *this;
+}
+
+FlipCounts FlipCounts::operator-(const FlipCounts& other) const {
+  FlipCounts out = *this;
+  for (std::size_t k = 0; k < by_kind.size(); ++k) out.by_kind[k] -= other.by_kind[k];
+  return out;
+}
+
+std::string FlipCounts::summary() const {
+  std::vector<std::pair<int, int>> kinds;
+  for (int b = 2; b <= dimension; ++b) kinds.emplace_back(b, dimension + 2 - b);
+  if (dimension == 3) kinds.insert(kinds.end(), {{4, 4}, {2, 2}});
+  for (int removed = 0; removed < side; ++removed)
+    for (int inserted = 0; inserted < side; ++inserted)
+      if (count(removed, inserted) && std::find(kinds.begin(), kinds.end(), std::pair{removed, inserted}) == kinds.end())
+        kinds.emplace_back(removed, inserted);
+  std::string s;
+  for (const auto& [removed, inserted] : kinds) {
+    if (!s.empty()) s += ", ";
+    s += std::to_string(removed) + "-" + std::to_string(inserted) + ": " + std::to_string(count(removed, inserted));
+  }
+  return s.empty() ? "none" : s;
+}
+
+template <int D>
+LawsonStats optimize_lawson(SimplexMesh<D>& mesh, const std::vector<float>& values, int K, const CostFunction& cost,
+                            const LawsonOptions& options) {
+  if (K < 1 || K > max_cost_channels)
+    throw Error("the cost takes 1 to " + std::to_string(max_cost_channels) + " channels, got " + std::to_string(K));
+  if (values.size() != mesh.points.size() * static_cast<std::size_t>(K))
+    throw Error("optimize_lawson: " + std::to_string(values.size()) + " values for " +
+                std::to_string(mesh.points.size()) + " vertices and " + std::to_string(K) + " channels");
+  Optimizer<D> opt(mesh, values, K, cost, options);
+  LawsonStats stats;
+  stats.flips.dimension = D;
+  stats.cost_before = opt.total();
+  const long long cells = mesh.cell_count();
+  const bool forced = options.region_vertices > 0;
+  long long size = options.region_vertices;
+  if (options.region_vertices == 0 && cells > 2 * default_region_cells)
+    size = std::max<long long>(1, static_cast<long long>(mesh.points.size()) * default_region_cells / cells);
+  if (forced || size > 0) {
+    run_phases(opt, mesh, size, options, stats);
+  } else {
+    RegionRun run;
+    run.cells.resize(mesh.slot_count());
+    for (index_t c = 0; c < mesh.slot_count(); ++c) run.cells[c] = c;
+    const std::vector<std::uint32_t> initial = opt.initial_items();
+    opt.set_pending(initial);
+    double cost_now = stats.cost_before;
+    double reported_gains = 0;
+    opt.run_region(run, &initial, nullptr, [&](int iteration, const FlipCounts& flips) {
+      cost_now -= run.gains - reported_gains;
+      reported_gains = run.gains;
+      if (options.on_iteration) options.on_iteration(iteration, flips, cost_now);
+    });
+    stats.iterations = run.iterations;
+    stats.flips += run.flips;
+    stats.tests = run.tests;
+  }
+  stats.cost_after = opt.total();
+  return stats;
+}
+
+template LawsonStats optimize_lawson<2>(SimplexMesh<2>&, const std::vector<float>&, int, const CostFunction&,
+                                        const LawsonOptions&);
+template LawsonStats optimize_lawson<3>(SimplexMesh<3>&, const std::vector<float>&, int, const CostFunction&,
+                                        const LawsonOptions&);
+template LawsonStats optimize_lawson<4>(SimplexMesh<4>&, const std::vector<float>&, int, const CostFunction&,
+                                        const LawsonOptions&);
+
+}  // namespace ddt::core
