@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cctype>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -140,6 +141,26 @@ std::vector<std::string> expand_pattern(const std::string& path, const std::stri
 // to skip the data, so a FIFO named there would block it before we could
 // look: the names are read here first (the "data file" or "datafile" field:
 // one name, a pattern, or LIST and one name a line to the end of the file).
+// The value of a "data file" field, as Teem reads the field's name: case
+// and spaces in the name do not matter ("data file", "datafile", "Data File").
+bool data_file_field(const std::string& line, std::string& value) {
+  const std::size_t colon = line.find(':');
+  if (colon == std::string::npos) return false;
+  std::string key;
+  for (char ch : line.substr(0, colon))
+    if (ch != ' ' && ch != '\t') key.push_back(static_cast<char>(std::tolower(static_cast<unsigned char>(ch))));
+  if (key != "datafile") return false;
+  const std::size_t begin = line.find_first_not_of(" \t", colon + 1);
+  value = begin == std::string::npos ? std::string() : line.substr(begin);
+  return true;
+}
+
+bool is_list(const std::string& value) {
+  std::string first = value.substr(0, value.find_first_of(" \t"));
+  for (char& ch : first) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+  return first == "LIST";
+}
+
 std::vector<std::string> data_file_names(const std::string& path) {
   constexpr std::size_t max_header_bytes = 1 << 20;
   std::ifstream in(path, std::ios::binary);
@@ -155,23 +176,30 @@ std::vector<std::string> data_file_names(const std::string& path) {
     }
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.empty() && !list) break;  // the header ends; a LIST goes on to the end of the file
-    if (line.rfind("data file: LIST", 0) == 0 || line.rfind("datafile: LIST", 0) == 0) list = true;
+    // A header is text: Teem's line reader overflows on a NUL in it (found by fuzz_nrrd).
+    for (char ch : line)
+      if ((static_cast<unsigned char>(ch) < 0x20 && ch != '\t') || ch == 0x7f)
+        throw Error("cannot read '" + path + "': a NRRD header with control bytes in its text");
+    if (std::string value; data_file_field(line, value) && is_list(value)) list = true;
     lines.push_back(line);
     line.clear();
     if (lines.size() == 1 && lines[0].rfind("NRRD", 0) != 0) return {};  // not NRRD: Teem will say so
   }
-  if (!line.empty()) lines.push_back(line);
+  if (!line.empty()) {
+    for (char ch : line)
+      if ((static_cast<unsigned char>(ch) < 0x20 && ch != '\t' && ch != '\r') || ch == 0x7f)
+        throw Error("cannot read '" + path + "': a NRRD header with control bytes in its text");
+    lines.push_back(line);
+  }
   std::vector<std::string> names;
   for (std::size_t i = 1; i < lines.size(); ++i) {
     const std::string& l = lines[i];
     std::string value;
-    for (const char* key : {"data file: ", "datafile: "})
-      if (l.rfind(key, 0) == 0) value = l.substr(std::strlen(key));
-    if (value.empty()) continue;
+    if (!data_file_field(l, value) || value.empty()) continue;
     std::istringstream tokens(value);
     std::string first;
     tokens >> first;
-    if (first == "LIST") {
+    if (is_list(value)) {
       for (std::size_t j = i + 1; j < lines.size(); ++j)
         if (!lines[j].empty()) names.push_back(lines[j]);
       break;
