@@ -235,6 +235,10 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
   // only with Lawson (annealing's random moves span the image; the
   // look-ahead's sweeps have no region schedule).
   int tile_rows = 0;
+  // An output with fewer pixels than the input on an axis cannot reproduce
+  // it: a reduction is the plain interpolation under every model.
+  const bool reduced = out_width < W || out_height < H;
+  const bool consistent = options.model.kind != AcquisitionModel::Kind::point && !reduced;
   const bool can_tile = W >= 2 && H >= 2 && options.optimizer == "lawson";
   if (can_tile && options.tile_rows > 0) {
     tile_rows = options.tile_rows;
@@ -246,9 +250,10 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
                              (options.render == "cubic" ? 8.0 * C : 0) + 4.0 * C;
     double fixed = 4.0 * C * (static_cast<double>(W) * H + static_cast<double>(out_width) * out_height);
     // The consistent reconstruction, untiled: a triangle owner per output
-    // pixel; per input pixel two operators of about 8 nonzeros (8 bytes
-    // each, twice that while assembled) and about ten double vectors.
-    if (options.model.kind != AcquisitionModel::Kind::point)
+    // pixel; per input pixel the mesh's operator of about 8 nonzeros (8
+    // bytes each, twice that while assembled) and about ten double vectors
+    // (sized when a second operator was solved on the grid: it errs high).
+    if (consistent)
       fixed += 4.0 * out_width * out_height + (256.0 + 80.0 * C) * W * H;
     const double budget = options.max_memory > 0 ? double(options.max_memory) : 0.5 * double(physical_memory());
     const double whole = fixed + per_pixel * W * H;
@@ -263,13 +268,11 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
   // The consistent reconstruction solves over the whole image; in tiles the
   // image gets the point model's interpolation, and the caller is told.
   UpscaleOptions band_options = options;
-  // An output with fewer pixels than the input on an axis cannot reproduce
-  // it: a reduction is the plain interpolation.
-  if ((out_width < W || out_height < H) && options.model.kind != AcquisitionModel::Kind::point) {
+  if (reduced && options.model.kind != AcquisitionModel::Kind::point) {
     band_options.model.kind = AcquisitionModel::Kind::point;
     if (options.log) options.log("consistency: skipped, the output is smaller than the input on an axis (point model)");
   }
-  if (tile_rows > 0 && band_options.model.kind != AcquisitionModel::Kind::point) {
+  if (tile_rows > 0 && consistent) {
     band_options.model.kind = AcquisitionModel::Kind::point;
     local.consistency_skipped = true;
     if (options.log) options.log("consistency: skipped, the image is processed in tiles (point model)");
