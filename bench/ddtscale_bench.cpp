@@ -20,15 +20,15 @@
 // triangulation are also timed alone, in this process, on 1 thread and on
 // all of them.
 
-#include "image_io.hpp"
-#include "image_mesh.hpp"
-#include "optimizer.hpp"
-#include "rasterizer.hpp"
-#include "synthetic_scenes.hpp"
-#include "triangulation.hpp"
-#include "upscale.hpp"
-#include "cubic_surface.hpp"
-#include "costs.hpp"
+#include "io/image_io.hpp"
+#include "image/image_mesh.hpp"
+#include "image/optimizer.hpp"
+#include "image/rasterizer.hpp"
+#include "eval/synthetic_scenes.hpp"
+#include "image/triangulation.hpp"
+#include "pipeline/upscale.hpp"
+#include "image/cubic_surface.hpp"
+#include "core/costs.hpp"
 
 #include <CGAL/version.h>
 #include <Eigen/Dense>

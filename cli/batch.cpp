@@ -1,6 +1,6 @@
 #include "batch.hpp"
 
-#include "progress.hpp"
+#include "util/progress.hpp"
 
 #include <CLI/CLI.hpp>
 #include <OpenImageIO/imageio.h>

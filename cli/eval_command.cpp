@@ -4,9 +4,9 @@
 #include "commands.hpp"
 #include "whole_number.hpp"
 
-#include "costs.hpp"
-#include "error.hpp"
-#include "evaluation.hpp"
+#include "core/costs.hpp"
+#include "util/error.hpp"
+#include "eval/evaluation.hpp"
 
 #include <CLI/CLI.hpp>
 

@@ -1,17 +1,17 @@
 // `ddtscale grid` — scattered points (x, y, values) to a regular north-up
-// grid by data-dependent triangulation; see src/gridding.hpp for the grid
-// convention and src/point_table.hpp for the input formats.
+// grid by data-dependent triangulation; see src/scattered/gridding.hpp for the grid
+// convention and src/scattered/point_table.hpp for the input formats.
 
 #include "commands.hpp"
 #include "whole_number.hpp"
 
-#include "costs.hpp"
-#include "error.hpp"
-#include "gridding.hpp"
-#include "image_io.hpp"
-#include "point_table.hpp"
-#include "size_limits.hpp"
-#include "upscale.hpp"
+#include "core/costs.hpp"
+#include "util/error.hpp"
+#include "scattered/gridding.hpp"
+#include "io/image_io.hpp"
+#include "scattered/point_table.hpp"
+#include "util/size_limits.hpp"
+#include "pipeline/upscale.hpp"
 
 #include <CLI/CLI.hpp>
 

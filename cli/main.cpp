@@ -6,17 +6,17 @@
 #include "commands.hpp"
 #include "whole_number.hpp"
 
-#include "classic_resize.hpp"
-#include "comparison.hpp"
-#include "costs.hpp"
-#include "error.hpp"
-#include "image_io.hpp"
-#include "image_mesh.hpp"
-#include "mesh_view.hpp"
-#include "output_size.hpp"
-#include "progress.hpp"
-#include "size_limits.hpp"
-#include "upscale.hpp"
+#include "eval/classic_resize.hpp"
+#include "eval/comparison.hpp"
+#include "core/costs.hpp"
+#include "util/error.hpp"
+#include "io/image_io.hpp"
+#include "image/image_mesh.hpp"
+#include "image/mesh_view.hpp"
+#include "pipeline/output_size.hpp"
+#include "util/progress.hpp"
+#include "util/size_limits.hpp"
+#include "pipeline/upscale.hpp"
 
 #include <CLI/CLI.hpp>
 #include <OpenImageIO/imageio.h>
@@ -248,7 +248,7 @@ int run_upscale(int argc, char** argv) {
     ddt::Progress progress;
     // The bar draws on its own copy of the terminal's descriptor: image I/O
     // points stderr at /dev/null while libraries read and write
-    // (src/image_io.cpp), and the bar goes on through the write stage.
+    // (src/io/image_io.cpp), and the bar goes on through the write stage.
     std::unique_ptr<std::FILE, int (*)(std::FILE*)> bar_out(nullptr, &std::fclose);
     std::unique_ptr<ddt::ProgressBar> bar;
     if (!args.quiet && ddt::ProgressBar::is_terminal(stderr)) {

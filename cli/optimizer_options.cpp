@@ -1,7 +1,7 @@
 #include "commands.hpp"
 #include "whole_number.hpp"
 
-#include "annealing.hpp"
+#include "image/annealing.hpp"
 
 #include <CLI/CLI.hpp>
 

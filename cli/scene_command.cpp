@@ -5,9 +5,9 @@
 
 #include "commands.hpp"
 
-#include "error.hpp"
-#include "image_io.hpp"
-#include "synthetic_scenes.hpp"
+#include "util/error.hpp"
+#include "io/image_io.hpp"
+#include "eval/synthetic_scenes.hpp"
 
 #include <CLI/CLI.hpp>
 

@@ -6,15 +6,15 @@
 #include "commands.hpp"
 #include "whole_number.hpp"
 
-#include "costs.hpp"
-#include "error.hpp"
-#include "image_io.hpp"
-#include "size_limits.hpp"
-#include "volume_experiments.hpp"
-#include "volume_fields.hpp"
-#include "volume_io.hpp"
-#include "volume_pictures.hpp"
-#include "volume_upscale.hpp"
+#include "core/costs.hpp"
+#include "util/error.hpp"
+#include "io/image_io.hpp"
+#include "util/size_limits.hpp"
+#include "eval/volume_experiments.hpp"
+#include "eval/volume_fields.hpp"
+#include "io/volume_io.hpp"
+#include "eval/volume_pictures.hpp"
+#include "volume/volume_upscale.hpp"
 
 #include <CLI/CLI.hpp>
 

@@ -1,8 +1,8 @@
 // libFuzzer target: an image read as the CLI reads it (read_image: every
 // OpenImageIO format plugin tried on a file with no extension, our header
 // checks, then the decode). Any input must give an image or a ddt::Error.
-#include "error.hpp"
-#include "image_io.hpp"
+#include "util/error.hpp"
+#include "io/image_io.hpp"
 
 #include <cmath>
 #include <cstddef>

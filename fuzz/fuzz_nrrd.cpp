@@ -3,8 +3,8 @@
 // as in.nhdr, optionally followed by "\n@@data@@\n" and the bytes of a data
 // file written beside it as d.raw (a header names it: `data file: d.raw`).
 // Any input must give a volume or a ddt::Error, nothing else.
-#include "error.hpp"
-#include "volume_io.hpp"
+#include "util/error.hpp"
+#include "io/volume_io.hpp"
 
 #include <cstddef>
 #include <cstdint>

@@ -1,8 +1,8 @@
 // libFuzzer target: the point-table reader of `ddtscale grid` (CSV, XYZ),
 // with and without explicit columns and an input no-data value. Any input
 // must give a table or a ddt::Error, nothing else.
-#include "error.hpp"
-#include "point_table.hpp"
+#include "util/error.hpp"
+#include "scattered/point_table.hpp"
 
 #include <cmath>
 #include <cstddef>

@@ -1,6 +1,6 @@
 #include "arrays.hpp"
 
-#include "error.hpp"
+#include "util/error.hpp"
 
 #include <OpenImageIO/imageio.h>
 

@@ -13,8 +13,8 @@
 // number of dimensions the call does not take, an empty array, NaN or
 // infinite samples.
 
-#include "image.hpp"
-#include "volume.hpp"
+#include "util/image.hpp"
+#include "volume/volume.hpp"
 
 #include <pybind11/numpy.h>
 

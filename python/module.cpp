@@ -7,14 +7,14 @@
 #include "arrays.hpp"
 #include "options.hpp"
 
-#include "classic_resize.hpp"
-#include "comparison.hpp"
-#include "error.hpp"
-#include "image_io.hpp"
-#include "image_mesh.hpp"
-#include "mesh_view.hpp"
-#include "output_size.hpp"
-#include "point_table.hpp"
+#include "eval/classic_resize.hpp"
+#include "eval/comparison.hpp"
+#include "util/error.hpp"
+#include "io/image_io.hpp"
+#include "image/image_mesh.hpp"
+#include "image/mesh_view.hpp"
+#include "pipeline/output_size.hpp"
+#include "scattered/point_table.hpp"
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>

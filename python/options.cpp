@@ -1,10 +1,10 @@
 #include "options.hpp"
 
-#include "acquisition_model.hpp"
-#include "costs.hpp"
-#include "cubic_surface.hpp"
-#include "error.hpp"
-#include "optimizer_choice.hpp"
+#include "consistency/acquisition_model.hpp"
+#include "core/costs.hpp"
+#include "image/cubic_surface.hpp"
+#include "util/error.hpp"
+#include "image/optimizer_choice.hpp"
 
 #include <pybind11/stl.h>
 

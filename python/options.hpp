@@ -9,9 +9,9 @@
 // the accepted ones; a value of the wrong Python type throws
 // pybind11::type_error (TypeError).
 
-#include "gridding.hpp"
-#include "upscale.hpp"
-#include "volume_upscale.hpp"
+#include "scattered/gridding.hpp"
+#include "pipeline/upscale.hpp"
+#include "volume/volume_upscale.hpp"
 
 #include <pybind11/pybind11.h>
 

@@ -1,8 +1,8 @@
 #pragma once
 // Small builders shared by the tests.
 
-#include "image.hpp"
-#include "mesh.hpp"
+#include "util/image.hpp"
+#include "image/mesh.hpp"
 
 #include <algorithm>
 #include <cstdlib>

@@ -1,7 +1,7 @@
 #pragma once
 // Small builders shared by the 3D tests.
 
-#include "volume.hpp"
+#include "volume/volume.hpp"
 
 namespace ddt::test {
 

@@ -4,7 +4,7 @@ upscale(array, scale, **options) enlarges a dask array in bands of rows
 (map_overlap), each band with margins of rows above and below it. The
 result equals ddtscale.upscale(array.compute(), scale, **options) bit for
 bit (tests/python/test_dask.py), because the library proves a band with
-wide enough margins exact (ddt::upscale_rows, src/upscale.hpp) when
+wide enough margins exact (ddt::upscale_rows, src/pipeline/upscale.hpp) when
 
   * model="point" (the consistent reconstruction of the other models,
     the default "box" among them, solves over the whole image), and

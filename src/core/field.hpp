@@ -10,7 +10,7 @@
 // simplex-weight costs read the content alone).
 
 #include "core/simplex_mesh.hpp"
-#include "costs.hpp"
+#include "core/costs.hpp"
 
 #include <Eigen/Dense>
 

@@ -1,7 +1,7 @@
 #include "core/lawson.hpp"
 
 #include "core/predicates.hpp"
-#include "error.hpp"
+#include "util/error.hpp"
 
 #include <tbb/parallel_for.h>
 

@@ -1,6 +1,6 @@
 #include "core/local_cost.hpp"
 
-#include "chunked_sum.hpp"
+#include "util/chunked_sum.hpp"
 #include "core/field.hpp"
 
 #include <algorithm>

@@ -16,7 +16,7 @@
 // neighbours across the region's boundary; nothing else.
 
 #include "core/flips.hpp"
-#include "costs.hpp"
+#include "core/costs.hpp"
 
 #include <algorithm>
 #include <vector>

@@ -32,18 +32,18 @@
 //   thin triangle   longest edge / height on it > 4, i.e. L^2 > 8 area (the
 //                   Delaunay triangles of a grid have 2)
 
-#include "annealing.hpp"
-#include "classic_resize.hpp"
-#include "costs.hpp"
-#include "error.hpp"
-#include "image_io.hpp"
-#include "image_mesh.hpp"
-#include "lookahead.hpp"
-#include "mesh_view.hpp"
-#include "optimizer.hpp"
-#include "rasterizer.hpp"
-#include "synthetic_scenes.hpp"
-#include "triangulation.hpp"
+#include "image/annealing.hpp"
+#include "eval/classic_resize.hpp"
+#include "core/costs.hpp"
+#include "util/error.hpp"
+#include "io/image_io.hpp"
+#include "image/image_mesh.hpp"
+#include "image/lookahead.hpp"
+#include "image/mesh_view.hpp"
+#include "image/optimizer.hpp"
+#include "image/rasterizer.hpp"
+#include "eval/synthetic_scenes.hpp"
+#include "image/triangulation.hpp"
 
 #include <CLI/CLI.hpp>
 

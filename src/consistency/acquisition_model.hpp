@@ -1,0 +1,63 @@
+#pragma once
+// ddt::AcquisitionModel — how an input pixel was made from the continuous
+// image, and the linear map that remakes the input from an output.
+//
+// A pixel is rarely a point sample: a camera, a renderer and the SR
+// benchmark's low-resolution pixels are averages over a footprint. The
+// consistent reconstruction (consistent_reconstruction.hpp) makes the
+// output reproduce the input under this model.
+//
+//   point          input pixel j is the value at its centre (j + 0.5): the
+//                  paper's interpolation, no correction
+//   box            the average over the pixel's area [j, j + 1) (default)
+//   gauss:SIGMA    the area average blurred by a Gaussian PSF of SIGMA
+//                  input pixels (a sensor behind optics)
+//   bicubic        MATLAB's antialiased imresize(hr, 1/s, 'bicubic'), the
+//                  SR benchmark's low-resolution images
+//
+// Discrete form: an output of m samples on an axis of n input pixels is
+// mapped back by weights w(j, X) with input pixel j = sum_X w(j, X) out[X],
+// sum_X w(j, X) = 1 for every j; images are mapped separably (rows, then
+// columns). Output pixel X covers [X n / m, (X + 1) n / m) in input units;
+// for `box` w(j, X) is the exact overlap of that interval with [j, j + 1).
+
+#include "util/image.hpp"
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace ddt {
+
+struct AcquisitionModel {
+  enum class Kind { point, box, gauss, bicubic };
+  Kind kind = Kind::box;
+  double sigma = 0;  // gauss: the PSF's standard deviation in input pixels (> 0)
+};
+
+// Parses "point", "box", "gauss:SIGMA" (SIGMA > 0 and finite) or "bicubic";
+// throws ddt::Error with the accepted forms on anything else.
+AcquisitionModel parse_acquisition_model(const std::string& text);
+std::string to_string(const AcquisitionModel& model);
+std::vector<std::string> acquisition_model_names();  // the forms, for --help
+
+// The weights of one axis, by output sample: output X contributes
+// weight[k] to input pixel pixel[k] for k in [first[X], first[X + 1]).
+struct AxisWeights {
+  std::vector<int> first;   // m + 1 offsets
+  std::vector<int> pixel;   // input pixel ids
+  std::vector<double> weight;
+};
+
+// Inputs: model (not point), n input pixels >= 1, m output samples >= 1.
+AxisWeights axis_weights(const AcquisitionModel& model, int n, int m);
+
+// The same weights by input pixel: for each of the n pixels, its
+// (output sample, weight) pairs in output order.
+std::vector<std::vector<std::pair<int, double>>> by_input_pixel(const AxisWeights& w, int n);
+
+// The input the model predicts from `out`: in_width x in_height x
+// out.channels, pixel j = sum over X, Y of wy(j_y, Y) wx(j_x, X) out(X, Y).
+Image apply_acquisition(const AcquisitionModel& model, const Image& out, int in_width, int in_height);
+
+}  // namespace ddt

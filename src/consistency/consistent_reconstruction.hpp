@@ -1,0 +1,66 @@
+#pragma once
+// ddt::make_consistent — the consistent reconstruction: the output,
+// mapped back to the input grid by the acquisition model
+// (acquisition_model.hpp), reproduces the input.
+//
+// The rendered surface O0 (cubic or linear, on the optimized mesh) is
+// corrected in two parts, both solved at input resolution:
+//   1. on the data-dependent mesh: a few back-projection steps
+//      delta1 += r - A delta1 (A = footprint_operator(mesh)), kept while they
+//      lower the residual. The correction follows the edges the flips
+//      found instead of ringing across them; but a mesh with long thin
+//      triangles makes A ill-conditioned (a vertex of thin triangles has
+//      little weight in its own footprint), so it is not solved exactly.
+//   2. on the bilinear surface of the pixel grid (grid_surface.hpp), whose
+//      operator G is well-conditioned and separable: G delta2 = the rest,
+//      solved exactly, axis by axis.
+//   O = O0 + render_linear(mesh, delta1) + bilinear(delta2),
+// so that acquire(O) = src up to rounding, whatever the scale.
+//   3. step edges (box model): a footprint whose 3x3 input pixels one
+//      straight edge between two levels explains is drawn as that edge
+//      (step_edges.hpp), sharp to the output pixel;
+//   4. halos: each footprint's values are clamped to the range of the 3x3
+//      input pixels around it (open below at a strict local minimum, above
+//      at a strict maximum: a thin dark line may go darker than any input
+//      pixel) after a common shift that keeps the footprint's mean; where
+//      that moves the acquisition (other models, non-integer scales), one
+//      more exact grid correction.
+// docs/consistency.md has the measurements behind these choices.
+//
+// Inputs:
+//   out        the rendered surface, out_width x out_height x C, C <= 16
+//              (corrected in place)
+//   mesh       the mesh it was rendered from; its points the pixel centres of src
+//   src        the input image, width x height x C
+// Errors: throws ddt::Error when a mesh is not src's pixel grid.
+
+#include "consistency/acquisition_model.hpp"
+#include "util/image.hpp"
+#include "image/mesh.hpp"
+
+namespace ddt {
+
+struct ConsistencyOptions {
+  AcquisitionModel model;       // not point
+  int mesh_steps = 2;           // back-projection steps on the data-dependent mesh (at most)
+  double tolerance = 1e-6;      // a final grid correction where limiting left more than 10x this
+  bool limit_halos = true;      // clamp overshoots beside edges, keeping each footprint's mean
+  bool step_edges = true;       // box model: footprints on one straight edge drawn as that edge
+};
+
+struct ConsistencyStats {
+  int mesh_steps = 0;           // back-projection steps kept
+  double residual_mesh = 0;     // max residual after the mesh steps
+  double residual_before = 0;   // max |src - acquire(O0)| over pixels and channels
+  double residual_after = 0;    // the same for the solved delta, at input resolution
+  long long nonzeros = 0;       // of A
+  long long halo_footprints = 0;  // footprints and channels whose overshoot was limited
+  long long step_edge_footprints = 0;  // footprints drawn as one straight edge
+  int halo_passes = 0;            // 1 when limiting needed a final grid correction
+  double seconds_operator = 0, seconds_solve = 0, seconds_render = 0;
+};
+
+void make_consistent(Image& out, const Mesh2& mesh, const Image& src, const ConsistencyOptions& options,
+                     ConsistencyStats* stats = nullptr);
+
+}  // namespace ddt

@@ -1,0 +1,55 @@
+#pragma once
+// ddt::GridSurface — the bilinear surface on the pixel grid: what the
+// acquisition model makes of its rendering, and the exact inverse of that.
+//
+// The consistent reconstruction (consistent_reconstruction.hpp) solves the
+// part of its correction that the data-dependent mesh cannot carry on a
+// well-conditioned surface. The bilinear (tensor-product hat) surface is
+// separable, and so is every acquisition model, so its operator is the
+// Kronecker product of two axis matrices:
+//   G = By (x) Bx,  B[j][i] = sum over X of w(j, X) hat_i((X + 0.5) n / m)
+// (w: the model's axis weights, acquisition_model.hpp), and G v = r is
+// solved exactly, axis by axis, with a sparse LU of each n x n axis matrix
+// (banded: a few entries a row): O(pixels) with no iteration, no matrix
+// of the image's size, and no pixel loop at output resolution.
+//
+// The surface: output pixel (X, Y) takes the bilinear interpolant of the
+// vertex values at its centre ((X + 0.5) / sx, (Y + 0.5) / sy), vertex
+// y * width + x at (x + 0.5, y + 0.5); outside the samples' box
+// [0.5, W - 0.5] x [0.5, H - 0.5] (the half-pixel rim) the value at the
+// clamped centre, as the linear render draws its rim.
+//
+// Vectors hold width*height by C values, interleaved (pixel-major).
+
+#include "consistency/acquisition_model.hpp"
+#include "util/image.hpp"
+
+#include <memory>
+#include <vector>
+
+namespace ddt {
+
+class GridSurface {
+ public:
+  // Inputs: width, height >= 1 input pixels; out_width, out_height >= 1;
+  //   model not point. Errors: throws ddt::Error for an empty grid or an
+  //   axis matrix that is singular (a model that cannot be inverted).
+  GridSurface(int width, int height, int out_width, int out_height, const AcquisitionModel& model);
+  ~GridSurface();
+  GridSurface(const GridSurface&) = delete;
+  GridSurface& operator=(const GridSurface&) = delete;
+
+  // y = G v: what the model acquires of the surface with vertex values v.
+  void acquire(const std::vector<double>& v, std::vector<double>& y, int channels) const;
+  // v with G v = r, exact up to rounding.
+  void solve(const std::vector<double>& r, std::vector<double>& v, int channels) const;
+  // Adds the surface with vertex values v to `out` (the output grid) in place.
+  void add_to(Image& out, const std::vector<double>& v) const;
+
+ private:
+  struct Axis;
+  int width_, height_, out_width_, out_height_;
+  std::unique_ptr<Axis> x_, y_;
+};
+
+}  // namespace ddt

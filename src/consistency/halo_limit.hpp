@@ -1,0 +1,44 @@
+#pragma once
+// ddt::limit_halos — overshoots beside edges removed from a consistent
+// output without losing its consistency.
+//
+// Each footprint (the output pixels whose centres lie in input pixel
+// (x, y)) is clamped to the range halo_bounds allows after a common shift,
+// the one that keeps the footprint's mean: at integer scales under the box
+// model that mean is the acquisition, so consistency is kept exactly;
+// elsewhere nearly (consistent_reconstruction.cpp corrects the rest).
+// docs/consistency.md has the measurements behind the bounds.
+
+#include "util/image.hpp"
+
+#include <utility>
+#include <vector>
+
+namespace ddt {
+
+// The output pixels whose centres lie in each input pixel: footprint x
+// holds columns [first_x[x], first_x[x + 1]), likewise rows.
+struct FootprintPixels {
+  std::vector<int> first_x, first_y;
+};
+FootprintPixels footprint_pixels(int width, int height, int out_width, int out_height);
+
+// The range an output pixel may take in footprint (x, y), channel c: that of
+// the 3x3 input pixels around it. Where the pixel is the strict minimum of
+// them it may hold a dark feature thinner than a pixel, whose truth is
+// darker than any input pixel: the range reaches down to the 5x5 minimum,
+// and down to the image's darkest input pixel (image_min) where the pixel
+// is the strict minimum of the 5x5 too (an isolated dot); likewise above.
+std::pair<float, float> halo_bounds(const Image& src, int x, int y, int c, float image_min, float image_max);
+
+// The common shift t for which the mean of clamp(v + t, lo, hi) over
+// `values` is `mean` (it grows with t; safeguarded Newton steps on its
+// slope, the share of unclamped values). `mean` must lie in [lo, hi]; lo
+// or hi may be infinite.
+double mean_keeping_shift(const std::vector<float>& values, double mean, double lo, double hi);
+
+// Clamps every footprint of `out` (a consistent output of `src`) as above.
+// Returns the number of footprints and channels changed.
+long long limit_halos(Image& out, const Image& src);
+
+}  // namespace ddt

@@ -1,0 +1,293 @@
+#include "consistency/step_edges.hpp"
+
+#include "consistency/halo_limit.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <vector>
+
+namespace ddt {
+
+double rectangle_coverage(double s, double p, double q) {
+  if (p < q) std::swap(p, q);
+  const double half = 0.5 * (p + q);
+  if (s <= -half) return 0;
+  if (s >= half) return 1;
+  const double flat = 0.5 * (p - q);
+  if (s < -flat) {
+    const double u = s + half;
+    return u * u / (2 * p * q);
+  }
+  if (s > flat) {
+    const double u = half - s;
+    return 1 - u * u / (2 * p * q);
+  }
+  return 0.5 + s / p;
+}
+
+namespace {
+
+constexpr int window = 9;  // the 3x3 input pixels around a footprint
+constexpr int max_channels = 16;
+
+// One straight edge and, per channel, the levels behind it (a) and on its
+// normal's side (b).
+struct EdgeFit {
+  double angle = 0, offset = 0;  // normal (cos, sin); the line is n . p = offset
+  std::array<double, max_channels> a{}, b{};
+  double misfit = INFINITY;  // largest |model - value| over the window and channels
+};
+
+struct Window {
+  int C = 1;
+  std::array<double, window> cx{}, cy{};             // pixel centres
+  std::array<double, window * max_channels> value{};  // [k * C + c]
+};
+
+using Residuals = std::array<double, window * max_channels>;
+
+// The misfit of the line (angle, offset), with each channel's levels the
+// least-squares ones for it; the residuals model - value in `r`. Returns
+// the sum of their squares, or infinity where the line leaves every pixel
+// on one side (the levels are then undetermined).
+double evaluate(const Window& w, double angle, double offset, EdgeFit& fit, Residuals& r) {
+  const double nx = std::cos(angle), ny = std::sin(angle);
+  std::array<double, window> share{};
+  double s1 = 0, s2 = 0;
+  for (int k = 0; k < window; ++k) {
+    share[k] = rectangle_coverage(nx * w.cx[k] + ny * w.cy[k] - offset, std::abs(nx), std::abs(ny));
+    s1 += share[k];
+    s2 += share[k] * share[k];
+  }
+  const double det = window * s2 - s1 * s1;
+  if (!(det > 1e-9)) return INFINITY;
+  fit.angle = angle;
+  fit.offset = offset;
+  fit.misfit = 0;
+  double sum = 0;
+  for (int c = 0; c < w.C; ++c) {
+    double v1 = 0, vs = 0;
+    for (int k = 0; k < window; ++k) v1 += w.value[k * w.C + c], vs += w.value[k * w.C + c] * share[k];
+    // v = a + (b - a) share, least squares in (a, b - a).
+    const double step = (window * vs - s1 * v1) / det, a = (v1 - step * s1) / window;
+    fit.a[c] = a;
+    fit.b[c] = a + step;
+    for (int k = 0; k < window; ++k) {
+      const double e = a + step * share[k] - w.value[k * w.C + c];
+      r[k * w.C + c] = e;
+      sum += e * e;
+      fit.misfit = std::max(fit.misfit, std::abs(e));
+    }
+  }
+  return sum;
+}
+
+// Fits one edge to the window: a start from the gradient of channel `main`
+// and the centre pixel's share, then damped Gauss-Newton steps in
+// (angle, offset).
+EdgeFit fit_edge(const Window& w, int main, double lo, double hi, double reject_misfit) {
+  EdgeFit none;
+  auto v = [&](int dx, int dy) { return w.value[((dy + 1) * 3 + dx + 1) * w.C + main]; };
+  const double gx = (v(1, -1) + 2 * v(1, 0) + v(1, 1)) - (v(-1, -1) + 2 * v(-1, 0) + v(-1, 1));
+  const double gy = (v(-1, 1) + 2 * v(0, 1) + v(1, 1)) - (v(-1, -1) + 2 * v(0, -1) + v(1, -1));
+  if (gx == 0 && gy == 0) return none;
+  const double angle0 = std::atan2(gy, gx), nx = std::cos(angle0), ny = std::sin(angle0);
+  // A straight edge's shares grow along its normal: texture that does not
+  // is turned away before any fitting (the start's normal is a few degrees
+  // off, hence the slack).
+  std::array<int, window> order{};
+  for (int k = 0; k < window; ++k) order[k] = k;
+  std::sort(order.begin(), order.end(), [&](int i, int j) {
+    return nx * w.cx[i] + ny * w.cy[i] < nx * w.cx[j] + ny * w.cy[j];
+  });
+  const double slack = 0.15 * (hi - lo);
+  double highest = -INFINITY;
+  for (int k : order) {
+    const double value = w.value[k * w.C + main];
+    if (value < highest - slack) return none;
+    highest = std::max(highest, value);
+  }
+  // The centre's share of b's side fixes the offset along that normal.
+  const double share = std::clamp((v(0, 0) - lo) / (hi - lo), 0.0, 1.0);
+  const double at_centre = nx * w.cx[4] + ny * w.cy[4];
+  double below = at_centre - 1, above = at_centre + 1;  // share falls as the offset grows
+  for (int it = 0; it < 40; ++it) {
+    const double mid = 0.5 * (below + above);
+    (rectangle_coverage(at_centre - mid, std::abs(nx), std::abs(ny)) > share ? below : above) = mid;
+  }
+  std::array<double, 2> x{angle0, 0.5 * (below + above)};
+  Residuals r{}, r1{};
+  EdgeFit fit;
+  double f = evaluate(w, x[0], x[1], fit, r);
+  if (!std::isfinite(f) || fit.misfit > reject_misfit * (hi - lo)) return none;
+  const int n = window * w.C;
+  double lambda = 1e-3;
+  for (int it = 0; it < 30 && f > 1e-14; ++it) {
+    // Jacobian by central differences: the misfit is piecewise smooth.
+    std::array<Residuals, 2> J{};
+    const double h[2] = {1e-5, 1e-5};
+    bool ok = true;
+    for (int j = 0; j < 2 && ok; ++j) {
+      std::array<double, 2> xp = x, xm = x;
+      xp[j] += h[j];
+      xm[j] -= h[j];
+      Residuals rp{}, rm{};
+      EdgeFit scratch;
+      ok = std::isfinite(evaluate(w, xp[0], xp[1], scratch, rp)) && std::isfinite(evaluate(w, xm[0], xm[1], scratch, rm));
+      for (int i = 0; i < n; ++i) J[j][i] = (rp[i] - rm[i]) / (2 * h[j]);
+    }
+    if (!ok) break;
+    double a00 = 0, a01 = 0, a11 = 0, g0 = 0, g1 = 0;
+    for (int i = 0; i < n; ++i) {
+      a00 += J[0][i] * J[0][i];
+      a01 += J[0][i] * J[1][i];
+      a11 += J[1][i] * J[1][i];
+      g0 += J[0][i] * r[i];
+      g1 += J[1][i] * r[i];
+    }
+    bool improved = false;
+    for (int tries = 0; tries < 8 && !improved; ++tries) {
+      const double d00 = a00 * (1 + lambda) + 1e-12, d11 = a11 * (1 + lambda) + 1e-12;
+      const double det = d00 * d11 - a01 * a01;
+      if (!(det > 0)) break;
+      const std::array<double, 2> step{-(d11 * g0 - a01 * g1) / det, -(d00 * g1 - a01 * g0) / det};
+      EdgeFit trial;
+      const double f1 = evaluate(w, x[0] + step[0], x[1] + step[1], trial, r1);
+      if (f1 < f) {
+        fit = trial;
+        x = {x[0] + step[0], x[1] + step[1]};
+        f = f1;
+        r = r1;
+        lambda *= 0.3;
+        improved = true;
+      } else {
+        lambda *= 10;
+      }
+    }
+    if (!improved) break;
+  }
+  return fit;
+}
+
+// The largest misfit of the fitted edge, levels kept, over the 5x5 input
+// pixels around (x, y): a second feature within two pixels (the far side of
+// a thin line, a corner, the image's own border stripe) shows here.
+double misfit_5x5(const Image& src, int x, int y, const EdgeFit& fit) {
+  const double nx = std::cos(fit.angle), ny = std::sin(fit.angle);
+  double worst = 0;
+  for (int py = y - 2; py <= y + 2; ++py)
+    for (int px = x - 2; px <= x + 2; ++px) {
+      const double share =
+          rectangle_coverage(nx * (px + 0.5) + ny * (py + 0.5) - fit.offset, std::abs(nx), std::abs(ny));
+      for (int c = 0; c < src.channels; ++c)
+        worst = std::max(worst, std::abs(fit.a[c] + (fit.b[c] - fit.a[c]) * share - src.at(px, py, c)));
+    }
+  return worst;
+}
+
+// The code value of a quantized input (1/255, 1/65535), 0 for one that is
+// not: every sample must sit on the code grid.
+double quantum_of(const Image& src) {
+  for (double levels : {255.0, 65535.0}) {
+    bool on_grid = true;
+    for (std::size_t i = 0; i < src.pixels.size() && on_grid; ++i) {
+      const double code = src.pixels[i] * levels;
+      on_grid = std::abs(code - std::round(code)) < 1e-3;
+    }
+    if (on_grid) return 1 / levels;
+  }
+  return 0;
+}
+
+}  // namespace
+
+long long render_step_edges(Image& out, const Image& src, const StepEdgeOptions& options) {
+  const int W = src.width, H = src.height, C = src.channels;
+  if (W < 5 || H < 5 || C > max_channels) return 0;
+  const FootprintPixels f = footprint_pixels(W, H, out.width, out.height);
+  const double pw = static_cast<double>(W) / out.width, ph = static_cast<double>(H) / out.height;  // output pixel size
+  const double quantum = quantum_of(src);
+  double min_step = options.min_step_codes * quantum;
+  if (quantum == 0) {
+    const auto [lo, hi] = std::minmax_element(src.pixels.begin(), src.pixels.end());
+    min_step = options.min_step_share * (*hi - *lo);
+  }
+  if (!(min_step > 0)) return 0;  // a flat image
+  const double rounding = 0.5 * quantum;
+  std::atomic<long long> drawn{0};
+  tbb::parallel_for(2, H - 2, [&](int y) {
+    Window w;
+    w.C = C;
+    std::vector<float> o;
+    for (int x = 2; x < W - 2; ++x) {
+      // The channel with the largest step decides whether this is an edge
+      // pixel at all: strictly between the levels around it.
+      int main = -1;
+      double main_step = min_step, lo_main = 0, hi_main = 0;
+      std::array<double, max_channels> lo{}, hi{};
+      for (int k = 0; k < window; ++k) {
+        const int px = x + k % 3 - 1, py = y + k / 3 - 1;
+        w.cx[k] = px + 0.5;
+        w.cy[k] = py + 0.5;
+        for (int c = 0; c < C; ++c) {
+          const double value = src.at(px, py, c);
+          w.value[k * C + c] = value;
+          lo[c] = k == 0 ? value : std::min(lo[c], value);
+          hi[c] = k == 0 ? value : std::max(hi[c], value);
+        }
+      }
+      for (int c = 0; c < C; ++c)
+        if (hi[c] - lo[c] >= main_step) main = c, main_step = hi[c] - lo[c], lo_main = lo[c], hi_main = hi[c];
+      if (main < 0) continue;
+      const double centre = w.value[4 * C + main];
+      const double margin = 1e-3 * main_step;
+      if (!(centre > lo_main + margin && centre < hi_main - margin)) continue;
+      // A straight line crosses at most 5 of the 3x3 pixels: the other 4 or
+      // more sit on one of the two levels.
+      int on_level = 0;
+      const double allowed = options.tolerance * main_step + rounding;  // misfit of a 3x3 pixel
+      const double near = 2 * allowed;
+      for (int k = 0; k < window; ++k) {
+        const double value = w.value[k * C + main];
+        on_level += value <= lo_main + near || value >= hi_main - near;
+      }
+      if (on_level < 4) continue;
+      const EdgeFit fit = fit_edge(w, main, lo_main, hi_main, 10 * allowed / main_step);
+      if (!(fit.misfit <= allowed)) continue;
+      bool levels_inside = true;  // no level beyond what the window shows
+      for (int c = 0; c < C; ++c) {
+        const double slack = allowed;
+        levels_inside = levels_inside && std::min(fit.a[c], fit.b[c]) >= lo[c] - slack &&
+                        std::max(fit.a[c], fit.b[c]) <= hi[c] + slack;
+      }
+      if (!levels_inside || !(misfit_5x5(src, x, y, fit) <= options.reach_tolerance * main_step + rounding)) continue;
+      const double nx = std::cos(fit.angle), ny = std::sin(fit.angle);
+      const double p = pw * std::abs(nx), q = ph * std::abs(ny);
+      for (int c = 0; c < C; ++c) {
+        o.clear();
+        double mean = 0;
+        for (int Y = f.first_y[y]; Y < f.first_y[y + 1]; ++Y)
+          for (int X = f.first_x[x]; X < f.first_x[x + 1]; ++X) {
+            mean += out.at(X, Y, c);
+            const double s = nx * (X + 0.5) * pw + ny * (Y + 0.5) * ph - fit.offset;
+            o.push_back(static_cast<float>(fit.a[c] + (fit.b[c] - fit.a[c]) * rectangle_coverage(s, p, q)));
+          }
+        if (o.empty()) continue;
+        mean = std::clamp(mean / o.size(), lo[c], hi[c]);
+        const double t = mean_keeping_shift(o, mean, lo[c], hi[c]);
+        std::size_t i = 0;
+        for (int Y = f.first_y[y]; Y < f.first_y[y + 1]; ++Y)
+          for (int X = f.first_x[x]; X < f.first_x[x + 1]; ++X)
+            out.at(X, Y, c) = static_cast<float>(std::clamp(o[i++] + t, lo[c], hi[c]));
+      }
+      ++drawn;
+    }
+  });
+  return drawn;
+}
+
+}  // namespace ddt

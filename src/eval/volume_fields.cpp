@@ -1,0 +1,81 @@
+#include "eval/volume_fields.hpp"
+
+#include "util/error.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <limits>
+
+namespace ddt {
+namespace {
+
+double sphere(double x, double y, double z) {
+  const double dx = x - 0.5, dy = y - 0.5, dz = z - 0.5;
+  return dx * dx + dy * dy + dz * dz < 0.35 * 0.35 ? 1.0 : 0.0;
+}
+
+double hydrogen(double x, double y, double z) {
+  constexpr double half_width = 20.0;  // Bohr radii from the centre to a face
+  const double px = (2 * x - 1) * half_width, py = (2 * y - 1) * half_width, pz = (2 * z - 1) * half_width;
+  const double r2 = px * px + py * py + pz * pz;
+  const double r = std::sqrt(r2);
+  // r^2 (3 cos^2 - 1) = 3 z^2 - r^2; squared: r^4 (3 cos^2 - 1)^2.
+  const double angular = 3 * pz * pz - r2;
+  // Maximum on the z axis at r = 6: (2 * 36)^2 exp(-4).
+  static const double peak = (2.0 * 36.0) * (2.0 * 36.0) * std::exp(-4.0);
+  return angular * angular * std::exp(-2.0 * r / 3.0) / peak;
+}
+
+}  // namespace
+
+const std::vector<VolumeField>& volume_fields() {
+  static const std::vector<VolumeField> fields = {
+      {"sphere", "solid ball of radius 0.35 centred in the cube, 1 inside, 0 outside", &sphere, 0.5},
+      {"hydrogen", "hydrogen 3d_z2 orbital density r^4 exp(-2r/3) (3cos^2 - 1)^2 over [-20, 20]^3 a0, max 1",
+       &hydrogen, 0.1},
+  };
+  return fields;
+}
+
+const VolumeField& find_volume_field(const std::string& name) {
+  for (const auto& f : volume_fields())
+    if (f.name == name) return f;
+  throw Error("unknown field '" + name + "' (valid: sphere, hydrogen)");
+}
+
+Volume sample_field(const VolumeField& field, int nx, int ny, int nz, int ss) {
+  if (nx < 1 || ny < 1 || nz < 1 || ss < 1) throw Error("sample_field: sizes and supersampling must be >= 1");
+  Volume v(nx, ny, nz);
+  const double inv = 1.0 / (double(ss) * ss * ss);
+  tbb::parallel_for(0, nz, [&](int k) {
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        double sum = 0;
+        for (int c = 0; c < ss; ++c)
+          for (int b = 0; b < ss; ++b)
+            for (int a = 0; a < ss; ++a)
+              sum += field.value((i + (a + 0.5) / ss) / nx, (j + (b + 0.5) / ss) / ny, (k + (c + 0.5) / ss) / nz);
+        v.at(i, j, k) = static_cast<float>(sum * inv);
+      }
+  });
+  return v;
+}
+
+double volume_rmse(const Volume& a, const Volume& b) {
+  if (a.nx != b.nx || a.ny != b.ny || a.nz != b.nz) throw Error("volume_rmse: the volumes differ in size");
+  if (a.empty()) throw Error("volume_rmse: the volumes are empty");
+  double sum = 0;
+  for (std::size_t i = 0; i < a.voxels.size(); ++i) {
+    const double d = double(a.voxels[i]) - b.voxels[i];
+    sum += d * d;
+  }
+  return std::sqrt(sum / a.voxels.size());
+}
+
+double volume_psnr(const Volume& a, const Volume& b, double peak) {
+  const double e = volume_rmse(a, b);
+  return e == 0 ? std::numeric_limits<double>::infinity() : 20.0 * std::log10(peak / e);
+}
+
+}  // namespace ddt

@@ -1,0 +1,119 @@
+#include "eval/volume_resample.hpp"
+
+#include "util/error.hpp"
+
+#include <teem/nrrd.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+
+namespace ddt {
+namespace {
+
+// Per output index along one axis: the two input indices and the weight
+// of the second, index position clamped into [0, n_in - 1].
+struct Taps {
+  std::vector<int> i0, i1;
+  std::vector<double> w1;
+};
+
+Taps linear_taps(int n_in, int n_out) {
+  Taps t;
+  const double s = double(n_out) / n_in;
+  for (int X = 0; X < n_out; ++X) {
+    const double u = std::clamp((X + 0.5) / s - 0.5, 0.0, double(n_in - 1));
+    const int a = std::min(static_cast<int>(std::floor(u)), n_in - 1);
+    t.i0.push_back(a);
+    t.i1.push_back(std::min(a + 1, n_in - 1));
+    t.w1.push_back(u - a);
+  }
+  return t;
+}
+
+Volume trilinear(const Volume& src, int nx, int ny, int nz) {
+  const Taps tx = linear_taps(src.nx, nx), ty = linear_taps(src.ny, ny), tz = linear_taps(src.nz, nz);
+  Volume out(nx, ny, nz);
+  tbb::parallel_for(0, nz, [&](int Z) {
+    const double wz = tz.w1[Z];
+    for (int Y = 0; Y < ny; ++Y) {
+      const double wy = ty.w1[Y];
+      for (int X = 0; X < nx; ++X) {
+        const double wx = tx.w1[X];
+        auto at = [&](int i, int j, int k) { return double(src.at(i, j, k)); };
+        auto lerp = [](double a, double b, double w) { return a + w * (b - a); };
+        const int x0 = tx.i0[X], x1 = tx.i1[X], y0 = ty.i0[Y], y1 = ty.i1[Y], z0 = tz.i0[Z], z1 = tz.i1[Z];
+        const double c00 = lerp(at(x0, y0, z0), at(x1, y0, z0), wx), c10 = lerp(at(x0, y1, z0), at(x1, y1, z0), wx);
+        const double c01 = lerp(at(x0, y0, z1), at(x1, y0, z1), wx), c11 = lerp(at(x0, y1, z1), at(x1, y1, z1), wx);
+        out.at(X, Y, Z) = static_cast<float>(lerp(lerp(c00, c10, wy), lerp(c01, c11, wy), wz));
+      }
+    }
+  });
+  return out;
+}
+
+std::string teem_error() {
+  char* err = biffGetDone(NRRD);
+  std::string s = err ? err : "unknown Teem error";
+  free(err);
+  while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
+  const auto nl = s.rfind('\n');
+  return nl == std::string::npos ? s : s.substr(nl + 1);
+}
+
+}  // namespace
+
+const std::vector<std::string>& volume_methods() {
+  static const std::vector<std::string> names = {"trilinear", "tricubic"};
+  return names;
+}
+
+Volume teem_resample(const Volume& src, int nx, int ny, int nz, const std::string& kernel) {
+  if (src.empty()) throw Error("resample: the volume is empty");
+  if (nx < 1 || ny < 1 || nz < 1) throw Error("resample: the output size must be at least 1x1x1");
+  const NrrdKernel* k = nullptr;
+  double parm[NRRD_KERNEL_PARMS_NUM] = {1.0, 0.0, 0.5};  // scale 1 (input samples); B, C unused
+  if (kernel == "tent") k = nrrdKernelTent;
+  else if (kernel == "catmull-rom") k = nrrdKernelCatmullRom;
+  else throw Error("resample: unknown Teem kernel '" + kernel + "' (valid: tent, catmull-rom)");
+
+  Nrrd* nin = nrrdNew();
+  Nrrd* nout = nrrdNew();
+  NrrdResampleContext* rsmc = nrrdResampleContextNew();
+  auto done = [&] {
+    nrrdResampleContextNix(rsmc);
+    nrrdNix(nin);  // wraps src's memory: do not free it
+    nrrdNuke(nout);
+  };
+  const std::size_t n_out[3] = {std::size_t(nx), std::size_t(ny), std::size_t(nz)};
+  int failed = nrrdWrap_va(nin, const_cast<float*>(src.voxels.data()), nrrdTypeFloat, 3, std::size_t(src.nx),
+                           std::size_t(src.ny), std::size_t(src.nz));
+  failed = failed || nrrdResampleDefaultCenterSet(rsmc, nrrdCenterCell) || nrrdResampleNrrdSet(rsmc, nin) ||
+           nrrdResampleBoundarySet(rsmc, nrrdBoundaryBleed) || nrrdResampleTypeOutSet(rsmc, nrrdTypeFloat) ||
+           nrrdResampleRenormalizeSet(rsmc, AIR_TRUE);
+  for (unsigned a = 0; a < 3 && !failed; ++a)
+    failed = nrrdResampleKernelSet(rsmc, a, k, parm) || nrrdResampleSamplesSet(rsmc, a, n_out[a]) ||
+             nrrdResampleRangeFullSet(rsmc, a);
+  failed = failed || nrrdResampleExecute(rsmc, nout);
+  if (failed) {
+    const std::string why = teem_error();
+    done();
+    throw Error("resample: " + why);
+  }
+  Volume out(nx, ny, nz);
+  const float* data = static_cast<const float*>(nout->data);
+  std::copy(data, data + out.voxel_count(), out.voxels.begin());
+  done();
+  return out;
+}
+
+Volume classic_resize_volume(const Volume& src, int nx, int ny, int nz, const std::string& method) {
+  if (src.empty()) throw Error("resize: the volume is empty");
+  if (nx < 1 || ny < 1 || nz < 1) throw Error("resize: the output size must be at least 1x1x1");
+  if (method == "trilinear") return trilinear(src, nx, ny, nz);
+  if (method == "tricubic") return teem_resample(src, nx, ny, nz, "catmull-rom");
+  throw Error("unknown volume method '" + method + "' (valid: trilinear, tricubic)");
+}
+
+}  // namespace ddt

@@ -1,0 +1,109 @@
+#pragma once
+// Scanline rasterizer for piecewise-linear surfaces on triangle meshes.
+//
+// Output pixel (X, Y) samples the input plane at
+//     (origin_x + (X + 0.5) / scale_x,  origin_y + (Y + 0.5) / scale_y).
+// Inside the convex hull of the mesh the value is the linear interpolant of
+// the triangle containing that point; outside it, the value at the nearest
+// point of the hull (nearest in input coordinates). The rim outside the hull
+// is rendered as extra triangles: a slab per hull edge (value linear along
+// the edge, constant along its outward normal) and a fan per hull corner
+// (constant), so one code path covers both.
+//
+// Fill rule: every pixel centre is owned by exactly one triangle. Coverage
+// uses exact orientation (plain double arithmetic where it is provably
+// exact: coordinates on a 2^-10 grid, as at integer scales; else a filtered
+// evaluation backed by CGAL's exact predicate); a centre exactly on an edge
+// or vertex belongs to the triangle that contains the centre moved by an
+// infinitesimal (eps, eps^2), the top-left rule made exact.
+// Values: the plane through the triangle's vertex values (linear) or its
+// Bézier patch (cubic), evaluated in double; samples that coincide with
+// output pixel centres are then written as stored, bit for bit.
+//
+// Order: rows are drawn in groups with no vertex strictly between their
+// rows, so the same triangles cross each row of a group in the same order;
+// a walk across the mesh's adjacency visits them left to right, computing
+// each edge's crossing once for the two triangles beside it. Every pixel is
+// drawn once, by construction; groups are drawn in parallel (TBB). Per
+// pixel one multiply-add per channel (linear). See docs/performance.md.
+// Lattice meshes (pixel centres at integer scales: every vertex at the same
+// fractional position in output pixels) repeat a few triangle shapes by
+// whole pixels: each shape's pixels are found once with the walk's exact
+// crossings and every copy draws from that list, the same pixels and bits
+// with no walk (RenderGrid::by_shapes; the rim is still walked).
+//
+// A mesh with no triangles (collinear points) is rendered by linear
+// interpolation along the line, clamped at its ends; a single point gives a
+// constant image.
+
+#include "util/image.hpp"
+#include "image/mesh.hpp"
+#include "util/progress.hpp"
+
+#include <vector>
+
+namespace ddt {
+
+struct RenderGrid {
+  int width = 0, height = 0;        // output size in pixels
+  double scale_x = 1, scale_y = 1;  // output pixels per input unit
+  double origin_x = 0, origin_y = 0;  // input position of the output's top-left corner
+  // Rows [first_row, first_row + rows) of the grid only (rows < 0: all):
+  // the image returned has that many rows, its row 0 being grid row
+  // first_row, and every pixel the value it has in the whole grid, bit for
+  // bit (tiled rendering, upscale.hpp).
+  int first_row = 0, rows = -1;
+  // Lattice meshes (every vertex at the same fractional position in output
+  // pixels, as pixel centres at integer scales): draw the mesh's triangles
+  // from the pixel lists of their shapes instead of walking them; same
+  // pixels, same bits, faster at small scales; with the rim, convex hulls
+  // only. false: always walk (tests, the benchmark's comparison).
+  bool by_shapes = true;
+};
+
+struct RenderStats {
+  long long triangles = 0;       // mesh triangles drawn
+  long long rim_triangles = 0;   // slab and fan triangles outside the hull
+  long long uncovered = 0;       // pixels no triangle drew: outside the hull without the rim, else 0
+  long long overcovered = 0;     // pixels drawn more than once (0: each row's pieces are disjoint by construction)
+  // Cubic mode: pieces (a triangle's part of a group of rows) drawn from the
+  // patch's power form and from its Bernstein form.
+  long long power_pieces = 0;
+  long long bernstein_pieces = 0;
+  // Lattice meshes drawn by shape: the mesh triangles so drawn (those with
+  // pixels in the rows), and the distinct shapes kept (triangles of other
+  // shapes, with offsets over 64 pixels, find their rows each).
+  long long shaped_triangles = 0;
+  long long shapes = 0;
+};
+
+// Cubic mode (gradients given): each triangle carries the cubic Bézier
+// patch of cubic_surface.hpp built from its vertices' values and gradients;
+// the rim slabs carry the hull edge's cubic, constant along the normal, so
+// the surface stays continuous across the hull. Samples are still
+// reproduced exactly (the patch equals the vertex value at a vertex).
+//
+// Inputs:
+//   mesh     valid Mesh2 (points in input coordinates)
+//   values   #V by C vertex values, row-major
+//   C        channels
+//   grid     output size and sampling
+//   fill_outside  render the rim outside the hull (false: those pixels keep `outside_value`)
+//   gradients     nullptr: piecewise linear; else #V by C by 2 vertex gradients
+//                 (d/dx, d/dy in input units) for the cubic mode; C <= 16
+//   progress      if given, a stage "render" counting groups of rows (and,
+//                 drawn by shape, chunks of 4096 triangles)
+// Output: width x height x C image.
+Image render_mesh(const Mesh2& mesh, const std::vector<float>& values, int C, const RenderGrid& grid,
+                  RenderStats* stats = nullptr, bool fill_outside = true, float outside_value = 0.0f,
+                  const std::vector<float>* gradients = nullptr, Progress* progress = nullptr);
+
+// As render_mesh, drawn into `out` (grid.width wide, C channels): grid row
+// first_row + i goes to out row out_row + i; other rows are left alone, and
+// so are pixels no triangle owns when !fill_outside. Throws ddt::Error when
+// out cannot hold the rows.
+void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vector<float>& values, int C,
+                      const RenderGrid& grid, RenderStats* stats = nullptr, bool fill_outside = true,
+                      const std::vector<float>* gradients = nullptr, Progress* progress = nullptr);
+
+}  // namespace ddt

@@ -1,0 +1,399 @@
+#include "io/image_io.hpp"
+
+#include "util/error.hpp"
+
+#include <OpenImageIO/imagebufalgo.h>
+#include <OpenImageIO/imageio.h>
+
+#include <OpenImageIO/filesystem.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <mutex>
+#include <system_error>
+
+#include <fcntl.h>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace ddt {
+namespace {
+
+SampleFormat sample_format_of(const OIIO::TypeDesc& t) {
+  switch (t.basetype) {
+    case OIIO::TypeDesc::UINT8:
+    case OIIO::TypeDesc::INT8: return SampleFormat::uint8;
+    case OIIO::TypeDesc::UINT16:
+    case OIIO::TypeDesc::INT16: return SampleFormat::uint16;
+    case OIIO::TypeDesc::HALF: return SampleFormat::half;
+    default: return SampleFormat::float32;
+  }
+}
+
+std::string first_line(std::string s) {
+  while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
+  auto nl = s.find('\n');
+  if (nl != std::string::npos) s = s.substr(0, nl);
+  return s;
+}
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  for (auto& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return ext;
+}
+
+OIIO::TypeDesc output_type(const std::string& path, SampleFormat source, const OIIO::ImageOutput& out) {
+  const std::string ext = lower_extension(path);
+  if (ext == ".exr" || ext == ".hdr" || ext == ".pfm") return OIIO::TypeDesc::FLOAT;
+  OIIO::TypeDesc wanted = OIIO::TypeDesc::UINT8;
+  if (source == SampleFormat::uint16 || source == SampleFormat::half || source == SampleFormat::float32)
+    wanted = OIIO::TypeDesc::UINT16;
+  if (ext == ".tif" || ext == ".tiff") {
+    if (source == SampleFormat::half) return OIIO::TypeDesc::HALF;
+    if (source == SampleFormat::float32) return OIIO::TypeDesc::FLOAT;
+  }
+  // Formats such as JPEG store 8 bits only; OIIO would convert anyway, but say it plainly.
+  if (wanted == OIIO::TypeDesc::UINT16 && (ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".gif"))
+    wanted = OIIO::TypeDesc::UINT8;
+  (void)out;
+  return wanted;
+}
+
+// libpng, under OpenImageIO, prints its own "libpng error: ..." (and
+// warnings) on stderr before OpenImageIO hands the same error to us; we
+// report it once, so stderr points at /dev/null while a file is read or
+// written (one line per bad input). Nested and concurrent guards share the
+// redirection; the last one out restores stderr.
+class QuietLibraries {
+ public:
+  QuietLibraries() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (users_++ > 0) return;
+    std::fflush(stderr);
+    saved_ = ::dup(STDERR_FILENO);
+    const int null = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
+    if (saved_ >= 0 && null >= 0) ::dup2(null, STDERR_FILENO);
+    if (null >= 0) ::close(null);
+  }
+  ~QuietLibraries() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (--users_ > 0) return;
+    std::fflush(stderr);
+    if (saved_ >= 0) ::dup2(saved_, STDERR_FILENO), ::close(saved_);
+    saved_ = -1;
+  }
+  QuietLibraries(const QuietLibraries&) = delete;
+  QuietLibraries& operator=(const QuietLibraries&) = delete;
+
+ private:
+  static inline std::mutex mutex_;
+  static inline int users_ = 0;
+  static inline int saved_ = -1;
+};
+
+// Attributes of an input carried to the output (ImageFile::metadata); the
+// rest describe the file's encoding (compression, planar layout, plugin
+// state) and are the writer's to choose.
+bool carried(const std::string& name) {
+  for (const char* exact : {"ICCProfile", "Orientation", "XResolution", "YResolution", "ResolutionUnit", "Artist",
+                            "Copyright", "ImageDescription", "DateTime", "Make", "Model", "DocumentName"})
+    if (name == exact) return true;
+  for (const char* prefix : {"Exif:", "GPS:", "IPTC:"})
+    if (name.rfind(prefix, 0) == 0) return true;
+  return false;
+}
+
+}  // namespace
+
+OIIO::ParamValueList scaled_metadata(const OIIO::ParamValueList& metadata, double scale_x, double scale_y) {
+  OIIO::ParamValueList out;
+  for (const OIIO::ParamValue& p : metadata) {
+    const std::string name = p.name().string();
+    if (name == "Exif:PixelXDimension" || name == "Exif:PixelYDimension") continue;
+    if ((name == "XResolution" || name == "YResolution") && p.type() == OIIO::TypeDesc::FLOAT) {
+      const float resolution = p.get_float() * static_cast<float>(name == "XResolution" ? scale_x : scale_y);
+      out.attribute(name, resolution);
+      continue;
+    }
+    out.push_back(p);
+  }
+  return out;
+}
+
+ImageFile read_image(const std::string& path, const ImageReadLimits& limits) {
+  check_regular_file(path);
+  // OpenEXR 3.1's C++ header reader sizes a string attribute from the file
+  // and allocates it before reading it: a 405-byte file (found by
+  // fuzz/fuzz_image) took 2 GB and 4 s to refuse. Its core C library checks
+  // attribute sizes against the file and refuses it at once.
+  static const bool exr_core = OIIO::attribute("openexr:core", 1);
+  (void)exr_core;
+  auto in = [&] {
+    const QuietLibraries quiet;
+    return OIIO::ImageInput::open(path);
+  }();
+  if (!in) {
+    std::string msg = first_line(OIIO::geterror());
+    throw Error("cannot read '" + path + "': " + (msg.empty() ? "unsupported or corrupt image" : msg));
+  }
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
+    throw Error("cannot read '" + path + "': the image is empty");
+  if (spec.depth > 1) throw Error("cannot read '" + path + "': volume images are not 2D images");
+  // The header's claims, before a pixel is decoded (decompression bombs).
+  const std::string input = "input '" + path + "'";
+  check_size_limit(input, std::to_string(spec.width) + "x" + std::to_string(spec.height),
+                   checked_product({spec.width, spec.height}), limits.max_pixels, limits.option);
+  if (spec.tile_width > 0)
+    check_size_limit(input + ": a tile", std::to_string(spec.tile_width) + "x" + std::to_string(spec.tile_height),
+                     checked_product({spec.tile_width, std::max(1, spec.tile_height), std::max(1, spec.tile_depth)}),
+                     limits.max_pixels, limits.option);
+  check_memory_fits("decoding " + input + " (" + std::to_string(spec.width) + "x" + std::to_string(spec.height) + "x" +
+                        std::to_string(spec.nchannels) + ")",
+                    4.0 * spec.width * spec.height * spec.nchannels);
+  if (limits.check)
+    limits.check(ImageHeader{spec.width, spec.height, spec.nchannels, sample_format_of(spec.format), spec.alpha_channel});
+  const QuietLibraries quiet;
+  ImageFile file;
+  for (const OIIO::ParamValue& p : spec.extra_attribs)
+    if (carried(p.name().string())) file.metadata.push_back(p);
+  file.format = sample_format_of(spec.format);
+  file.alpha_channel = spec.alpha_channel;
+  if (spec.alpha_channel >= 0) file.alpha_name = spec.channelnames[spec.alpha_channel];
+  file.image = Image(spec.width, spec.height, spec.nchannels);
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, file.image.pixels.data())) {
+    std::string msg = first_line(in->geterror());
+    throw Error("cannot read '" + path + "': " + (msg.empty() ? "corrupt image data" : msg));
+  }
+  // A read that succeeds with a message is a damaged file decoded anyway
+  // (a truncated JPEG comes back grey below the cut, "Premature end of
+  // JPEG file"): refuse it rather than enlarge the damage.
+  if (const std::string damage = first_line(in->geterror()); !damage.empty())
+    throw Error("cannot read '" + path + "': " + damage);
+  for (float v : file.image.pixels)
+    if (!std::isfinite(v)) throw Error("cannot read '" + path + "': the image holds NaN or infinite samples");
+  // Further pages or parts, counted last: seeking changes in->spec().
+  file.pages = in->spec().get_int_attribute("oiio:subimages", 0);
+  if (file.pages < 1) file.pages = in->seek_subimage(1, 0) ? 2 : 1;
+  return file;
+}
+
+void check_output_path(const std::string& output, const std::string& input, bool image_format) {
+  std::error_code ec;
+  if (output.empty()) throw Error("no output file given");
+  if (!input.empty()) check_not_an_input(output, {input});
+  if (!input.empty() && fs::weakly_canonical(output, ec) == fs::weakly_canonical(input, ec))
+    throw Error("output '" + output + "' is the input file; refusing to overwrite it");
+  const fs::path target = resolve_output_link(output);  // a symlink: the file it points to is replaced
+  if (fs::is_directory(target, ec)) throw Error("output '" + output + "' is a directory");
+  fs::path dir = target.parent_path();
+  if (dir.empty()) dir = ".";
+  if (!fs::is_directory(dir, ec)) throw Error("output directory '" + dir.string() + "' does not exist");
+  if (::access(dir.c_str(), W_OK) != 0) throw Error("output directory '" + dir.string() + "' is not writable");
+  if (!image_format) return;
+  auto probe = OIIO::ImageOutput::create(output);
+  if (!probe) throw Error("cannot write '" + output + "': no image format for extension '" +
+                          fs::path(output).extension().string() + "'");
+}
+
+namespace {
+
+OIIO::ImageSpec output_spec(const std::string& path, int width, int height, int channels, SampleFormat source_format,
+                            int alpha_channel, const OIIO::ImageOutput& out) {
+  OIIO::ImageSpec spec(width, height, channels, output_type(path, source_format, out));
+  if (alpha_channel >= 0 && alpha_channel < channels) {
+    spec.alpha_channel = alpha_channel;
+    spec.channelnames[alpha_channel].assign(1, 'A');
+  }
+  if (spec.format == OIIO::TypeDesc::FLOAT && lower_extension(path) == ".exr")
+    spec.attribute("compression", "zip");
+  return spec;
+}
+
+// OIIO's writer goes through this proxy into a file of a StagedOutput: a
+// failed write is remembered there (and reported after close) instead of
+// being returned to a plugin that may ignore it (libpng) or exit() on it
+// (libjpeg).
+class StagedFileProxy final : public OIIO::Filesystem::IOProxy {
+ public:
+  StagedFileProxy(StagedOutput& stage, int file, const std::string& name)
+      : IOProxy(name, Write), stage_(stage), file_(file) {}
+  const char* proxytype() const override { return "ddtscale-staged"; }
+  void close() override { m_mode = Closed; }  // the StagedOutput syncs and closes
+  bool seek(int64_t offset) override {
+    m_pos = offset;
+    return offset >= 0;
+  }
+  size_t read(void* buf, size_t size) override {
+    const size_t n = stage_.read_at(file_, buf, size, m_pos);
+    m_pos += static_cast<int64_t>(n);
+    return n;
+  }
+  size_t write(const void* buf, size_t size) override {
+    stage_.write_at(file_, buf, size, m_pos);
+    m_pos += static_cast<int64_t>(size);
+    return size;
+  }
+  size_t pread(void* buf, size_t size, int64_t offset) override { return stage_.read_at(file_, buf, size, offset); }
+  size_t pwrite(const void* buf, size_t size, int64_t offset) override {
+    return stage_.write_at(file_, buf, size, offset);
+  }
+  size_t size() const override { return static_cast<size_t>(stage_.size(file_)); }
+
+ private:
+  StagedOutput& stage_;
+  int file_;
+};
+
+// Writers whose open() validates the size and that encode row by row, so a
+// trial open at the full size costs nothing (checked for OIIO 2.4: the
+// others, e.g. GIF, WebP, JPEG 2000, DPX, encode the whole image at close).
+bool trial_at_full_size(const std::string& format) {
+  for (const char* f : {"png", "tiff", "openexr", "bmp", "targa", "hdr", "pnm", "iff"})
+    if (format == f) return true;
+  return false;
+}
+
+}  // namespace
+
+void check_image_writable(const std::string& path, int width, int height, int channels, SampleFormat source_format,
+                          int alpha_channel) {
+  auto out = OIIO::ImageOutput::create(path);
+  if (!out) throw Error("cannot write '" + path + "': no image format for extension '" +
+                        fs::path(path).extension().string() + "'");
+  const std::string format = out->format_name();
+  const std::string refuse = "cannot write '" + path + "': ";
+  // libdpx aborts in open() for these (checked for OIIO 2.4).
+  if (format == "dpx" && channels != 1 && channels != 3 && channels != 4)
+    throw Error(refuse + "DPX stores 1, 3 or 4 channels, the image has " + std::to_string(channels));
+  if (format == "jpeg" && (width > 65500 || height > 65500))
+    throw Error(refuse + "JPEG stores at most 65500 pixels a side, the image is " + std::to_string(width) + "x" +
+                std::to_string(height));
+  if (!out->supports("ioproxy")) return;  // a trial would create a file; its errors come at the write
+  const bool full = trial_at_full_size(format);
+  const OIIO::ImageSpec spec = output_spec(path, full ? width : std::min(width, 16), full ? height : std::min(height, 16),
+                                           channels, source_format, alpha_channel, *out);
+  std::vector<unsigned char> scratch;
+  OIIO::Filesystem::IOVecOutput memory(scratch);
+  out->set_ioproxy(&memory);
+  const QuietLibraries quiet;
+  if (!out->open(fs::path(path).filename().string(), spec)) throw Error(refuse + first_line(out->geterror()));
+  out.reset();  // close: a few bytes of header into `scratch`
+}
+
+void write_image(const std::string& path, const Image& image, SampleFormat source_format, int alpha_channel,
+                 const OIIO::ParamValueList* metadata) {
+  if (image.empty()) throw Error("cannot write '" + path + "': the image is empty");
+  auto out = OIIO::ImageOutput::create(path);
+  if (!out) throw Error("cannot write '" + path + "': no image format for extension '" +
+                        fs::path(path).extension().string() + "'");
+  // The EXIF orientation: JPEG and TIFF carry the tag, which viewers honour;
+  // for the other formats (PNG has none in OpenImageIO 2.4's writer) it is
+  // applied to the pixels, so a portrait photograph stays upright.
+  int turn = 1;
+  if (metadata)
+    if (const auto found = metadata->find("Orientation", OIIO::TypeUnknown, false); found != metadata->cend())
+      turn = found->get_int();
+  if (turn > 1 && turn <= 8 && out->format_name() != std::string("jpeg") && out->format_name() != std::string("tiff")) {
+    OIIO::ImageBuf buf = buf_from_image(image);
+    buf.specmod().attribute("Orientation", turn);
+    OIIO::ParamValueList upright = *metadata;
+    upright.remove("Orientation");
+    write_image(path, image_from_buf(OIIO::ImageBufAlgo::reorient(buf)), source_format, alpha_channel, &upright);
+    return;
+  }
+  // libpng refuses an ICC profile it judges malformed (and with it the
+  // whole file): the image is then written without the profile.
+  if (out->format_name() == std::string("png") && metadata && metadata->contains("ICCProfile") &&
+      !metadata->contains("ddtscale:icc_checked")) {
+    try {
+      OIIO::ParamValueList checked = *metadata;
+      checked.attribute("ddtscale:icc_checked", 1);
+      write_image(path, image, source_format, alpha_channel, &checked);
+      return;
+    } catch (const Error& e) {
+      if (std::string(e.what()).find("profile") == std::string::npos) throw;
+    }
+    OIIO::ParamValueList without = *metadata;
+    without.remove("ICCProfile");
+    write_image(path, image, source_format, alpha_channel, &without);
+    return;
+  }
+  check_image_writable(path, image.width, image.height, image.channels, source_format, alpha_channel);
+  OIIO::ImageSpec spec =
+      output_spec(path, image.width, image.height, image.channels, source_format, alpha_channel, *out);
+  // OpenImageIO 2.4's TIFF writer, through an IOProxy (as here), writes a
+  // file without its ImageLength tag when EXIF or GPS tags are given (they go
+  // to a sub-directory): those are left out of TIFF outputs.
+  const bool tiff = std::string(out->format_name()) == "tiff";
+  if (metadata)
+    for (const OIIO::ParamValue& p : *metadata) {
+      const std::string name = p.name().string();
+      if (tiff && (name.rfind("Exif:", 0) == 0 || name.rfind("GPS:", 0) == 0)) continue;
+      if (name.rfind("ddtscale:", 0) == 0) continue;
+      spec.extra_attribs.add_or_replace(p);
+    }
+
+  StagedOutput stage(path);
+  const std::string name = stage.target().filename().string();
+  auto fail = [&](const std::string& why) { throw Error("cannot write '" + path + "': " + first_line(why)); };
+  const QuietLibraries quiet;
+  if (out->supports("ioproxy")) {
+    const int file = stage.create(name);
+    StagedFileProxy proxy(stage, file, name);
+    out->set_ioproxy(&proxy);
+    if (!out->open(name, spec)) fail(out->geterror());
+    if (!out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data())) fail(out->geterror());
+    if (!out->close()) fail(out->geterror());
+    out.reset();
+    stage.finish(file);  // throws with the first write error (ENOSPC, EFBIG, EIO)
+  } else {
+    // The plugin opens the path itself (in the private directory): read the
+    // file back in full, since its write errors may go unseen.
+    const std::string staged = stage.stage_path(name).string();
+    if (!out->open(staged, spec)) fail(out->geterror());
+    if (!out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data())) fail(out->geterror());
+    if (!out->close()) fail(out->geterror());
+    out.reset();
+    stage.finish(stage.adopt(name));
+    auto in = OIIO::ImageInput::open(staged);
+    std::vector<float> check(image.pixels.size());
+    if (!in || in->spec().width != image.width || in->spec().height != image.height ||
+        !in->read_image(0, 0, 0, image.channels, OIIO::TypeDesc::FLOAT, check.data()))
+      fail("the written file does not read back: " + (in ? in->geterror() : OIIO::geterror()));
+  }
+  stage.commit({name});
+}
+
+std::vector<unsigned char> encode_png(const Image& image) {
+  std::vector<unsigned char> bytes;
+  OIIO::Filesystem::IOVecOutput memory(bytes);
+  auto out = OIIO::ImageOutput::create("png");
+  if (!out) throw Error("PNG support is missing from OpenImageIO");
+  OIIO::ImageSpec spec(image.width, image.height, image.channels, OIIO::TypeDesc::UINT8);
+  out->set_ioproxy(&memory);
+  if (!out->open("memory.png", spec) || !out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data()) ||
+      !out->close())
+    throw Error("cannot encode PNG: " + first_line(out->geterror()));
+  return bytes;
+}
+
+Image image_from_buf(const OIIO::ImageBuf& buf) {
+  const OIIO::ImageSpec& spec = buf.spec();
+  Image image(spec.width, spec.height, spec.nchannels);
+  buf.get_pixels(OIIO::ROI(spec.x, spec.x + spec.width, spec.y, spec.y + spec.height, 0, 1, 0, spec.nchannels),
+                 OIIO::TypeDesc::FLOAT, image.pixels.data());
+  return image;
+}
+
+OIIO::ImageBuf buf_from_image(const Image& image) {
+  OIIO::ImageSpec spec(image.width, image.height, image.channels, OIIO::TypeDesc::FLOAT);
+  OIIO::ImageBuf buf(spec);
+  buf.set_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, image.pixels.data());
+  return buf;
+}
+
+}  // namespace ddt

@@ -1,0 +1,98 @@
+#pragma once
+// Image file I/O through OpenImageIO.
+//
+// Every function throws ddt::Error with a one-line message on failure.
+// Writing is atomic and exclusive (safe_file.hpp): the encoded bytes go
+// through a checked writer into a private directory beside the target and
+// are renamed over it only after a complete, synced write, so a failed run
+// (full disk, signal) never leaves a truncated file or destroys an existing
+// one. Inputs must be regular files (devices and FIFOs are refused).
+
+#include "util/image.hpp"
+#include "io/safe_file.hpp"
+#include "util/size_limits.hpp"
+
+#include <OpenImageIO/imagebuf.h>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace ddt {
+
+// How samples were stored in the file; used to pick the output depth.
+enum class SampleFormat { uint8, uint16, half, float32 };
+
+struct ImageFile {
+  Image image;                             // float samples as stored (uint scaled to 0..1)
+  SampleFormat format = SampleFormat::uint8;
+  std::string alpha_name;                  // empty when there is no alpha channel
+  int alpha_channel = -1;                  // index of alpha, or -1
+  // What the file says beside its pixels that a photographer expects kept:
+  // the ICC profile, EXIF (the orientation included: the pixels are read as
+  // stored, so the output carries the same tag and displays the same way),
+  // GPS and IPTC tags, resolution, camera, author and copyright.
+  OIIO::ParamValueList metadata;
+  int pages = 1;                           // subimages (TIFF pages, EXR parts); only the first is read
+};
+
+// What an image file's header says, before any pixel is decoded.
+struct ImageHeader {
+  int width = 0, height = 0, channels = 0;
+  SampleFormat format = SampleFormat::uint8;
+  int alpha_channel = -1;
+};
+
+// Limits on what read_image decodes (size_limits.hpp). The header's size is
+// checked before any pixel is decoded: width x height (and a tile's) against
+// max_pixels, the decoded floats against the memory available; then
+// `check`, when set, sees the header and may throw (the CLI sizes its whole
+// job there: output size, output format, memory).
+struct ImageReadLimits {
+  long long max_pixels = default_max_input_pixels();
+  std::string option = "--max-input-pixels";  // named in the refusal
+  std::function<void(const ImageHeader&)> check;
+};
+
+// Reads any image OpenImageIO reads (first subimage, first MIP level).
+ImageFile read_image(const std::string& path, const ImageReadLimits& limits = {});
+
+// Writes `image` to `path`; the format follows the extension. EXR is written
+// as 32-bit float; integer formats keep `source_format`'s depth (8 or 16 bit,
+// float sources become 16 bit), rounded and clamped to 0..1.
+// metadata, when given, is written with the image where the format stores
+// it (ImageFile::metadata, through scaled_metadata).
+void write_image(const std::string& path, const Image& image,
+                 SampleFormat source_format, int alpha_channel = -1,
+                 const OIIO::ParamValueList* metadata = nullptr);
+
+// `metadata` for an image scale_x x scale_y times the size it was read at:
+// the resolution (pixels per unit) scaled so the printed size stays, the
+// EXIF pixel dimensions dropped (the file's own size says it).
+OIIO::ParamValueList scaled_metadata(const OIIO::ParamValueList& metadata, double scale_x, double scale_y);
+
+// write_file_atomically(path, bytes), for text outputs such as SVG and CSV,
+// is declared in safe_file.hpp.
+
+// Encodes 8-bit PNG bytes in memory (for embedding, e.g. in SVG).
+std::vector<unsigned char> encode_png(const Image& image);
+
+// Conversions between ddt::Image and OpenImageIO's ImageBuf (float).
+Image image_from_buf(const OIIO::ImageBuf& buf);
+OIIO::ImageBuf buf_from_image(const Image& image);
+
+// Throws if `output` cannot be written: same file as `input`, or a directory
+// that does not exist or is not writable, or (when image_format) an
+// extension no image format claims. Called before any long work.
+// A symlink output is checked at the file it points to (safe_file.hpp).
+void check_output_path(const std::string& output, const std::string& input, bool image_format = true);
+
+// Throws when `path`'s format cannot store a width x height image of
+// `channels` channels from `source_format` samples (channel count, type,
+// size), so the refusal comes before any long work and before a plugin
+// that aborts on it (DPX with 2 or 5 channels) is handed the image.
+// write_image calls it too.
+void check_image_writable(const std::string& path, int width, int height, int channels, SampleFormat source_format,
+                          int alpha_channel = -1);
+
+}  // namespace ddt

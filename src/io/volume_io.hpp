@@ -1,0 +1,108 @@
+#pragma once
+// Volume file I/O: NRRD (.nrrd with attached header, .nhdr with a detached
+// data file) through Teem's nrrd library, the format's reference
+// implementation. image_io.hpp's twin for volumes.
+//
+// Shared rules:
+//   - Every function throws ddt::Error with a one-line message on failure.
+//   - Samples are read as stored, converted to float without rescaling
+//     (an 8-bit volume stays 0..255, a CT volume keeps its units). Integer
+//     output is rounded and clamped to its type's range.
+//   - Any encoding Teem reads is accepted (raw, gzip, bzip2, ascii, hex);
+//     the output keeps the input's encoding unless asked otherwise.
+//   - A volume has 3 axes; a NRRD with 2 axes is read as one slice (nz = 1),
+//     one with 4 axes as a volume if its first axis has size 1. Other
+//     multi-component data (RGB, tensors) is refused.
+//   - Writing is atomic and exclusive (safe_file.hpp): everything is
+//     written into a private directory beside the target, every write
+//     error seen, and renamed into place only after a complete, synced
+//     write (data file first, then the header), so a failed run never
+//     leaves a truncated file or destroys an existing one. A file the
+//     `like` volume was read from (header or data file) is never replaced.
+//     A .nhdr output's data file is named <stem>.<suffix of the encoding>
+//     (raw, raw.gz, raw.bz2, ascii, hex) beside it.
+//
+// Geometry: the input's header (space, space directions, origin, spacing,
+// units, labels, key/value pairs, comments) is kept and written with the
+// output, scaled to the new size. With s = n_out / n_in on an axis and the
+// voxel convention of volume.hpp (samples at cell centres):
+//   spacing and space direction  /= s
+//   space origin (the position of the first sample)
+//                                += (0.5 / s - 0.5) * old space direction
+//   axis min / max               unchanged (the same cells are covered)
+//   centering                    cell
+// so every output sample sits at its true world position.
+
+#include "util/size_limits.hpp"
+#include "volume/volume.hpp"
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace ddt {
+
+enum class VolumeSampleType { int8, uint8, int16, uint16, int32, uint32, int64, uint64, float32, float64 };
+enum class VolumeEncoding { raw, gzip, bzip2, ascii, hex };
+
+const char* sample_type_name(VolumeSampleType type);  // "uint8", "float32", ...
+const char* encoding_name(VolumeEncoding encoding);   // "raw", "gzip", ...
+// Parse the names above (also NRRD's "uchar", "short", "ushort", "float", ...);
+// throw ddt::Error listing the valid ones.
+VolumeSampleType parse_sample_type(const std::string& name);
+VolumeEncoding parse_encoding(const std::string& name);
+
+// The input's header without its samples (opaque; Teem's Nrrd inside).
+struct VolumeHeader;
+
+struct VolumeFile {
+  Volume volume;
+  VolumeSampleType type = VolumeSampleType::float32;
+  VolumeEncoding encoding = VolumeEncoding::raw;
+  std::shared_ptr<const VolumeHeader> header;  // null for volumes not read from a file
+};
+
+// True for the extensions write_volume and read_volume handle: .nrrd, .nhdr
+// (case-insensitive).
+bool is_volume_path(const std::string& path);
+
+struct VolumeReadOptions {
+  // A detached header may name its data file by any path; by default only
+  // names inside the header's directory are read (relative, no '..'), so a
+  // header from elsewhere cannot make us read, then write out, any file
+  // (`data file: /etc/passwd`).
+  bool any_data_path = false;
+  // Limits checked from the header, before a sample is read or
+  // decompressed (size_limits.hpp): the voxel count against max_voxels
+  // (named `option` in the refusal), the samples against the memory
+  // available; then `check`, when set, sees the size and may throw (the CLI
+  // sizes its whole job there).
+  long long max_voxels = default_max_input_voxels();
+  std::string option = "--max-input-voxels";
+  std::function<void(int nx, int ny, int nz)> check;
+};
+
+// Reads a NRRD file. The header and every data file it names must be
+// regular files (a device or FIFO is refused before it is opened).
+VolumeFile read_volume(const std::string& path, const VolumeReadOptions& options = {});
+
+// The files reading `path` opens: the header, then its data files (paths
+// usable from here). Reads the header only; throws as read_volume does.
+std::vector<std::string> volume_files(const std::string& path, const VolumeReadOptions& options = {});
+
+// Writes `volume` to `path` (.nrrd or .nhdr) as `type` with `encoding`.
+// like: the header of the volume it was made from (may be null); its
+// geometry is scaled to `volume`'s size as described above. `comment`, when
+// not empty, is added as a NRRD comment line.
+void write_volume(const std::string& path, const Volume& volume, VolumeSampleType type, VolumeEncoding encoding,
+                  const VolumeHeader* like = nullptr, const std::string& comment = {});
+
+// Throws if `output` cannot be written as a volume: it or the data file a
+// .nhdr output would write is one of the files `input` is read from (by
+// identity: header and data files), not .nrrd/.nhdr, or a directory that
+// does not exist or is not writable. Called before any long work.
+void check_volume_output_path(const std::string& output, const std::string& input,
+                              const VolumeReadOptions& options = {});
+
+}  // namespace ddt

@@ -1,0 +1,390 @@
+#include "pipeline/upscale.hpp"
+
+#include "consistency/consistent_reconstruction.hpp"
+#include "core/costs.hpp"
+#include "image/cubic_surface.hpp"
+#include "util/error.hpp"
+#include "io/image_io.hpp"
+#include "image/image_mesh.hpp"
+#include "image/optimizer_choice.hpp"
+#include "image/optimizer.hpp"
+#include "image/rasterizer.hpp"
+#include "util/size_limits.hpp"
+#include "image/triangulation.hpp"
+
+#include <OpenImageIO/imagebufalgo.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+namespace ddt {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// grid_gradients in parallel: bands of rows with a halo of two rows (the
+// reach of its stencils), so every value is the one the whole image gives.
+std::vector<float> gradients_of(const Image& img, SlopeLimiter limiter) {
+  constexpr int band = 64, halo = 2;
+  if (img.height <= 2 * band) return grid_gradients(img, limiter);
+  std::vector<float> g(img.pixel_count() * img.channels * 2);
+  const std::size_t row_floats = static_cast<std::size_t>(img.width) * img.channels;
+  tbb::parallel_for(0, (img.height + band - 1) / band, [&](int b) {
+    const int y0 = b * band, y1 = std::min(img.height, y0 + band);
+    const int top = std::max(0, y0 - halo), bottom = std::min(img.height, y1 + halo);
+    Image part(img.width, bottom - top, img.channels);
+    std::copy(img.pixels.begin() + static_cast<std::ptrdiff_t>(row_floats * top),
+              img.pixels.begin() + static_cast<std::ptrdiff_t>(row_floats * bottom), part.pixels.begin());
+    const std::vector<float> pg = grid_gradients(part, limiter);
+    std::copy(pg.begin() + static_cast<std::ptrdiff_t>(2 * row_floats * (y0 - top)),
+              pg.begin() + static_cast<std::ptrdiff_t>(2 * row_floats * (y1 - top)),
+              g.begin() + static_cast<std::ptrdiff_t>(2 * row_floats * y0));
+  });
+  return g;
+}
+
+// The first output row whose sample lies at or below input row y (its
+// centre y + 0.5 sits at output (y + 0.5) * sy - 0.5; rows of a band are the
+// output rows sampled between its first and its last input row).
+int first_output_row(int y, int in_height, int out_height) {
+  if (y <= 0) return 0;
+  if (y >= in_height) return out_height;
+  const double sy = static_cast<double>(out_height) / in_height;
+  return std::clamp(static_cast<int>(std::ceil(y * sy - 0.5)), 0, out_height);
+}
+
+struct Band {
+  int top, bottom;      // input rows of the band, margins included
+  int out_first, out_end;  // output rows it renders
+  int out_origin = 0;   // the output row held by row 0 of the image rendered into
+};
+
+// Triangulates, optimizes and renders one band of input rows into `out`.
+// Returns the optimizer's statistics (phases in `iterations`).
+// `src` holds rows [src_top, src_top + src.height) of an image of
+// image_height rows; the band lies within them.
+LawsonStats run_band(const Image& src, int src_top, int image_height, const Band& band, int out_width, int out_height,
+                     const UpscaleOptions& options, const CostFunction& cost, const DriveChannels& drive,
+                     long long region_triangles, int region_rows, const std::string& label, Image& out,
+                     UpscaleStats& local) {
+  auto log = [&](const std::string& line) {
+    if (options.log) options.log(label + line);
+  };
+  Progress* progress = options.progress;
+  const int W = src.width, C = src.channels;
+  const bool whole = band.top == 0 && band.bottom == image_height;
+  const std::size_t n = static_cast<std::size_t>(W) * (band.bottom - band.top);
+
+  auto t0 = std::chrono::steady_clock::now();
+  if (progress) progress->begin(label + "triangulate");
+  Mesh2 mesh;
+  {
+    std::vector<Point2> points(n);
+    tbb::parallel_for(band.top, band.bottom, [&](int y) {
+      for (int x = 0; x < W; ++x) points[static_cast<std::size_t>(y - band.top) * W + x] = {x + 0.5, y + 0.5};
+    });
+    mesh = delaunay_triangulation(points);
+  }
+  const double seconds_triangulate = seconds_since(t0);
+  const bool consistent = options.model.kind != AcquisitionModel::Kind::point;
+  local.seconds_triangulate += seconds_triangulate;
+  local.triangles += mesh.triangle_count();
+  log("triangulate: " + std::to_string(mesh.points.size()) + " points, " + std::to_string(mesh.triangle_count()) +
+      " triangles, " + std::to_string(seconds_triangulate) + " s");
+
+  // The band's samples (the image itself when the band is the image).
+  std::vector<float> band_pixels;
+  if (!whole)
+    band_pixels.assign(
+        src.pixels.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(band.top - src_top) * W * C),
+        src.pixels.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(band.bottom - src_top) * W * C));
+  const std::vector<float>& values = whole ? src.pixels : band_pixels;
+
+  t0 = std::chrono::steady_clock::now();
+  LawsonStats ls;
+  if (options.optimize && mesh.triangle_count() > 0) {
+    std::vector<float> own_drive;
+    if (!drive.identity) own_drive = drive_values(values.data(), n, C, drive);
+    const std::vector<float>& drive_vals = drive.identity ? values : own_drive;
+    const int K = drive.K;
+    LawsonOptions lawson;
+    lawson.relative_tolerance = options.relative_tolerance;
+    lawson.max_iterations = options.max_iterations;
+    lawson.region_triangles = region_triangles;
+    if (region_rows > 0)  // boundaries on absolute rows that are multiples of region_rows
+      lawson.region_origin = static_cast<long long>((region_rows - band.top % region_rows) % region_rows) * 2 * (W - 1);
+    if (options.log)
+      lawson.on_iteration = [&](int iteration, long long flips, double total) {
+        char line[160];
+        std::snprintf(line, sizeof line, "optimize: %s %d, %lld flips, cost %.9g",
+                      region_triangles > 0 ? "phase" : "iteration", iteration, flips, total);
+        log(line);
+      };
+    if (progress) {
+      // Expected tests: about twice the interior edges, 3 per triangle
+      // (3.0 measured on photographs; a little more, so the bar ends full).
+      progress->begin(label + "optimize", 3LL * mesh.triangle_count() + mesh.triangle_count() / 8);
+      lawson.on_tests = [progress](long long tests) { progress->set(tests); };
+    }
+    std::function<void(const std::string&)> band_log;
+    if (options.log) band_log = log;
+    ls = run_optimizer(mesh, drive_vals, K, cost, options.optimizer, options.anneal, lawson, band_log);
+  }
+  const double seconds_optimize = seconds_since(t0);
+  local.seconds_optimize += seconds_optimize;
+  if (options.optimize) {
+    char line[240];
+    std::snprintf(line, sizeof line,
+                  "optimize: cost %s, %d %s, %d regions, %lld tests, %lld flips, cost %.9g -> %.9g, %.3f s", cost.name,
+                  ls.iterations, region_triangles > 0 ? "phases" : "iterations", ls.regions, ls.tests, ls.flips,
+                  ls.cost_before, ls.cost_after, seconds_optimize);
+    log(line);
+  }
+
+  t0 = std::chrono::steady_clock::now();
+  RenderGrid grid;
+  grid.width = out_width;
+  grid.height = out_height;
+  grid.scale_x = static_cast<double>(out_width) / src.width;
+  grid.scale_y = static_cast<double>(out_height) / image_height;
+  grid.first_row = band.out_first;
+  grid.rows = band.out_end - band.out_first;
+  RenderStats rs;
+  std::vector<float> gradients;
+  if (options.render == "cubic") {
+    if (whole) {
+      gradients = gradients_of(src, slope_limiter_by_name(options.slopes));
+    } else {
+      Image part(W, band.bottom - band.top, C);
+      part.pixels = values;
+      gradients = gradients_of(part, slope_limiter_by_name(options.slopes));
+    }
+  }
+  render_mesh_into(out, band.out_first - band.out_origin, mesh, values, C, grid, &rs, true,
+                   options.render == "cubic" ? &gradients : nullptr, progress);
+  const double seconds_render = seconds_since(t0);
+  local.seconds_render += seconds_render;
+  log("render: " + std::to_string(out_width) + "x" + std::to_string(band.out_end - band.out_first) + ", " +
+      std::to_string(rs.triangles) + " + " + std::to_string(rs.rim_triangles) + " rim triangles, " +
+      std::to_string(seconds_render) + " s");
+  if (consistent) {
+    if (!whole) throw Error("the consistent reconstruction does not run in tiles yet");
+    t0 = std::chrono::steady_clock::now();
+    if (progress) progress->begin(label + "consistency");
+    ConsistencyOptions co;
+    co.model = options.model;
+    co.step_edges = options.step_edges;
+    ConsistencyStats cs;
+    make_consistent(out, mesh, src, co, &cs);
+    local.consistency_mesh_steps = cs.mesh_steps;
+    local.consistency_residual = cs.residual_after;
+    local.seconds_consistency = seconds_since(t0);
+    char line[320];
+    std::snprintf(line, sizeof line,
+                  "consistency (%s): residual %.3g, %.3g after %d steps on the mesh, %.3g after the grid solve; "
+                  "%lld nonzeros; %lld step-edge footprints, %lld halo-limited; operators %.3f s, solve %.3f s, "
+                  "render %.3f s",
+                  to_string(options.model).c_str(), cs.residual_before, cs.residual_mesh, cs.mesh_steps,
+                  cs.residual_after, cs.nonzeros, cs.step_edge_footprints, cs.halo_footprints,
+                  cs.seconds_operator, cs.seconds_solve, cs.seconds_render);
+    log(line);
+  }
+  return ls;
+}
+
+// The checks before any work: every name and the annealing schedule.
+const CostFunction& checked_cost(const UpscaleOptions& options) {
+  const CostFunction& cost = find_cost(options.cost);
+  check_render_name(options.render);
+  if (options.render == "cubic") slope_limiter_by_name(options.slopes);
+  check_optimizer(options.optimizer, options.anneal);
+  return cost;
+}
+
+// The optimizer's statistics of a run over one band (the whole image).
+void take_optimizer_stats(const LawsonStats& ls, UpscaleStats& stats) {
+  stats.iterations = ls.iterations;
+  stats.flips = ls.flips;
+  stats.tests = ls.tests;
+  stats.regions = ls.regions;
+  stats.cost_before = ls.cost_before;
+  stats.cost_after = ls.cost_after;
+}
+
+}  // namespace
+
+Image upscale(const Image& src, int out_width, int out_height, const UpscaleOptions& options, UpscaleStats* stats) {
+  if (src.empty() || src.width <= 0 || src.height <= 0) throw Error("the input image is empty");
+  if (out_width < 1 || out_height < 1) throw Error("the output size must be at least 1x1");
+  const CostFunction& cost = checked_cost(options);
+  const DriveChannels drive = drive_channels(src, options);
+  UpscaleStats local;
+  const int W = src.width, H = src.height, C = src.channels;
+
+  // Regions of the optimizer: whole rows, so that tiles (bands of rows)
+  // cut the same regions as the whole image.
+  const long long cells_row = 2LL * std::max(1, W - 1);
+  const int region_rows = optimizer_region_rows(W, H, options);
+
+  // Tiles: only where the whole image would not fit (or when asked), and
+  // only with Lawson (annealing's random moves span the image; the
+  // look-ahead's sweeps have no region schedule).
+  int tile_rows = 0;
+  // An output with fewer pixels than the input on an axis cannot reproduce
+  // it: a reduction is the plain interpolation under every model.
+  const bool reduced = out_width < W || out_height < H;
+  const bool consistent = options.model.kind != AcquisitionModel::Kind::point && !reduced;
+  const bool can_tile = W >= 2 && H >= 2 && options.optimizer == "lawson";
+  if (can_tile && options.tile_rows > 0) {
+    tile_rows = options.tile_rows;
+  } else if (can_tile && options.tile_rows == 0) {
+    // Bytes per input pixel while a band is processed: positions 16,
+    // triangles and twins 48, optimizer flags 6 and edge terms 48, drive
+    // values, cubic gradients, the band's own copy of its samples.
+    const double per_pixel = 16 + 48 + 6 + 48 + (drive.identity ? 0 : 4.0 * drive.K) +
+                             (options.render == "cubic" ? 8.0 * C : 0) + 4.0 * C;
+    double fixed = 4.0 * C * (static_cast<double>(W) * H + static_cast<double>(out_width) * out_height);
+    // The consistent reconstruction, untiled: a triangle owner per output
+    // pixel; per input pixel the mesh's operator of about 8 nonzeros (8
+    // bytes each, twice that while assembled) and about ten double vectors
+    // (sized when a second operator was solved on the grid: it errs high).
+    if (consistent)
+      fixed += 4.0 * out_width * out_height + (256.0 + 80.0 * C) * W * H;
+    const double budget = options.max_memory > 0 ? double(options.max_memory) : 0.5 * double(physical_memory());
+    const double whole = fixed + per_pixel * W * H;
+    if (whole > budget) {
+      const double rows = (budget - fixed) / (per_pixel * W);
+      tile_rows = std::max(256, static_cast<int>(rows * 0.8) - 512);
+    }
+  }
+  // Bands reproduce the whole image's result only under the region
+  // schedule; an image small enough for one region never needs them.
+  if (tile_rows >= H || region_rows <= 0) tile_rows = 0;
+  // The consistent reconstruction solves over the whole image; in tiles the
+  // image gets the point model's interpolation, and the caller is told.
+  UpscaleOptions band_options = options;
+  if (reduced && options.model.kind != AcquisitionModel::Kind::point) {
+    band_options.model.kind = AcquisitionModel::Kind::point;
+    if (options.log) options.log("consistency: skipped, the output is smaller than the input on an axis (point model)");
+  }
+  if (tile_rows > 0 && consistent) {
+    band_options.model.kind = AcquisitionModel::Kind::point;
+    local.consistency_skipped = true;
+    if (options.log) options.log("consistency: skipped, the image is processed in tiles (point model)");
+  }
+  const long long region_triangles = region_rows > 0 ? region_rows * cells_row : -1;
+
+  Image out(out_width, out_height, C);
+  if (tile_rows == 0) {
+    const LawsonStats ls = run_band(src, 0, H, Band{0, H, 0, out_height}, out_width, out_height, band_options, cost, drive,
+                                    region_triangles, region_rows, "", out, local);
+    take_optimizer_stats(ls, local);
+  } else {
+    // Bands of tile_rows rows with `margin` rows of overlap each side. In a
+    // band, phase k of the optimizer reproduces the whole image's phase k
+    // except within (k + 1) half-regions of the band's cut edges (a phase
+    // reaches half a region across its seams); the margin covers that for
+    // the phases the band needed, with slack for the triangles' height, or
+    // the band is redone with a wider one. So every rendered row sees the
+    // whole image's mesh (docs/performance.md).
+    const int tiles = (H + tile_rows - 1) / tile_rows;
+    int margin = 2 * region_rows + 8;
+    local.tiles = tiles;
+    for (int i = 0; i < tiles; ++i) {
+      const int y0 = i * tile_rows, y1 = std::min(H, y0 + tile_rows);
+      for (;;) {
+        Band band{std::max(0, y0 - margin), std::min(H, y1 + margin), first_output_row(y0, H, out_height),
+                  first_output_row(y1, H, out_height)};
+        UpscaleStats part;
+        const std::string label = "tile " + std::to_string(i + 1) + "/" + std::to_string(tiles) + " ";
+        const LawsonStats ls = run_band(src, 0, H, band, out_width, out_height, band_options, cost, drive, region_triangles,
+                                        region_rows, label, out, part);
+        const int needed = band_margin_needed(ls.iterations, region_rows);
+        if (options.optimize && needed > margin) {
+          margin = needed + region_rows;
+          if (options.log) options.log(label + "margin too narrow for " + std::to_string(ls.iterations) +
+                                       " phases: again with " + std::to_string(margin) + " rows");
+          continue;
+        }
+        local.seconds_triangulate += part.seconds_triangulate;
+        local.seconds_optimize += part.seconds_optimize;
+        local.seconds_render += part.seconds_render;
+        local.triangles += part.triangles;
+        local.iterations = std::max(local.iterations, ls.iterations);
+        local.flips += ls.flips;
+        local.tests += ls.tests;
+        if (i == 0) local.regions = ls.regions;
+        local.cost_before += ls.cost_before;
+        local.cost_after += ls.cost_after;
+        break;
+      }
+    }
+    local.tile_margin = margin;
+  }
+  if (stats) *stats = local;
+  return out;
+}
+
+bool upscale(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, int out_width, int out_height,
+             const UpscaleOptions& options, OIIO::ROI roi) {
+  try {
+    if (!roi.defined()) roi = src.roi();
+    OIIO::ImageBuf cropped = OIIO::ImageBufAlgo::cut(src, roi);
+    Image in = image_from_buf(cropped);
+    UpscaleOptions opts = options;
+    if (opts.alpha_channel < 0) opts.alpha_channel = src.spec().alpha_channel;
+    dst = buf_from_image(upscale(in, out_width, out_height, opts));
+    return true;
+  } catch (const std::exception& e) {
+    dst.errorfmt("{}", e.what());
+    return false;
+  }
+}
+
+int output_row_of(int y, int in_height, int out_height) { return first_output_row(y, in_height, out_height); }
+
+int band_margin_needed(int phases, int region_rows) { return (phases + 1) * ((region_rows + 1) / 2) + 8; }
+
+Image upscale_rows(const Image& rows, int top, int image_height, int first, int end, int out_width, int out_height,
+                   const UpscaleOptions& options, UpscaleStats* stats) {
+  if (rows.empty() || rows.width <= 0 || rows.height <= 0) throw Error("the input image is empty");
+  if (out_width < 1 || out_height < 1) throw Error("the output size must be at least 1x1");
+  const int bottom = top + rows.height;
+  if (top < 0 || bottom > image_height || first < top || end > bottom || first >= end)
+    throw Error("upscale_rows: rows " + std::to_string(first) + ".." + std::to_string(end) + " are not within the " +
+                "given rows " + std::to_string(top) + ".." + std::to_string(bottom) + " of an image of " +
+                std::to_string(image_height));
+  const bool whole = top == 0 && bottom == image_height;
+  if (!whole && options.model.kind != AcquisitionModel::Kind::point)
+    throw Error("--model " + to_string(options.model) +
+                " (the consistent reconstruction) solves over the whole image: bands need --model point");
+  const CostFunction& cost = checked_cost(options);
+  const DriveChannels drive = drive_channels(rows, options);
+  const int region_rows = optimizer_region_rows(rows.width, image_height, options);
+  if (!whole && options.optimize && (region_rows <= 0 || options.optimizer != "lawson"))
+    throw Error("a band equals the whole image's rows only under Lawson's region schedule "
+                "(optimizer lawson, region_rows > 0)");
+  const long long region_triangles = region_rows > 0 ? region_rows * 2LL * std::max(1, rows.width - 1) : -1;
+  Band band{top, bottom, first_output_row(first, image_height, out_height),
+            first_output_row(end, image_height, out_height)};
+  band.out_origin = band.out_first;
+  Image out(out_width, band.out_end - band.out_first, rows.channels);
+  UpscaleStats local;
+  const LawsonStats ls = run_band(rows, top, image_height, band, out_width, out_height, options, cost, drive,
+                                  region_triangles, region_rows, "", out, local);
+  take_optimizer_stats(ls, local);
+  local.tile_margin = std::min(top > 0 ? first - top : image_height, bottom < image_height ? bottom - end : image_height);
+  if (!whole && options.optimize && band_margin_needed(ls.iterations, region_rows) > local.tile_margin)
+    throw Error("a margin of " + std::to_string(local.tile_margin) + " rows is too narrow for the " +
+                std::to_string(ls.iterations) + " phases of the optimizer: give at least " +
+                std::to_string(band_margin_needed(ls.iterations, region_rows)) + " rows");
+  if (stats) *stats = local;
+  return out;
+}
+
+}  // namespace ddt

@@ -1,0 +1,56 @@
+#include "util/size_limits.hpp"
+
+#include "util/error.hpp"
+
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <string>
+
+#include <unistd.h>
+
+namespace ddt {
+
+long long physical_memory() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && page > 0 ? static_cast<long long>(pages) * page : 8LL << 30;
+}
+
+long long available_memory() {
+  std::ifstream meminfo("/proc/meminfo");
+  std::string key;
+  long long kilobytes = 0;
+  while (meminfo >> key >> kilobytes) {
+    if (key == "MemAvailable:") return kilobytes * 1024;
+    meminfo.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+  }
+  return physical_memory();
+}
+
+long long default_max_input_pixels() { return physical_memory() / 32; }
+long long default_max_input_voxels() { return physical_memory() / 1024; }
+long long default_max_input_points() { return physical_memory() / 1024; }
+
+void check_size_limit(const std::string& what, const std::string& size, long long count, long long limit,
+                      const std::string& option) {
+  if (count >= 0 && count <= limit) return;
+  throw Error(what + " " + size + " exceeds " + option + " " + std::to_string(limit));
+}
+
+long long checked_product(std::initializer_list<long long> sizes) {
+  long long product = 1;
+  for (long long s : sizes)
+    if (s < 0 || __builtin_mul_overflow(product, s, &product)) return -1;
+  return product;
+}
+
+void check_memory_fits(const std::string& job, double bytes) {
+  const long long available = available_memory();
+  if (bytes <= static_cast<double>(available)) return;
+  char line[64];
+  std::snprintf(line, sizeof line, " needs at least %.0f MB of memory, %lld MB are available", bytes / 1048576.0,
+                available / 1048576);
+  throw Error(job + line);
+}
+
+}  // namespace ddt

@@ -1,0 +1,155 @@
+#include "volume/volume_upscale.hpp"
+
+#include "util/error.hpp"
+#include "util/image.hpp"
+#include "volume/rasterizer3.hpp"
+#include "volume/tetrahedralization.hpp"
+#include "pipeline/upscale.hpp"
+#include "eval/volume_resample.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+
+namespace ddt {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// A single slice (or line, or voxel): the 2D method on the two widest axes,
+// repeated along the others.
+Volume upscale_planar(const Volume& src, const int out[3], const VolumeUpscaleOptions& options,
+                      VolumeUpscaleStats& stats) {
+  const int in[3] = {src.nx, src.ny, src.nz};
+  int axes[3] = {0, 1, 2};
+  std::stable_sort(axes, axes + 3, [&](int a, int b) { return (in[a] > 1) > (in[b] > 1); });
+  const int u = axes[0], v = axes[1];
+  Image img(in[u], in[v], 1);
+  for (int j = 0; j < in[v]; ++j)
+    for (int i = 0; i < in[u]; ++i) {
+      int c[3] = {0, 0, 0};
+      c[u] = i, c[v] = j;
+      img.at(i, j) = src.at(c[0], c[1], c[2]);
+    }
+  UpscaleOptions o;
+  o.cost = options.cost;
+  o.optimize = options.method == "ddt";
+  o.relative_tolerance = options.relative_tolerance;
+  o.max_iterations = options.max_iterations;
+  o.log = options.log;
+  UpscaleStats s2;
+  const Image big = upscale(img, out[u], out[v], o, &s2);
+  stats.planar = true;
+  stats.iterations = s2.iterations;
+  stats.planar_flips = s2.flips;
+  stats.cost_before = s2.cost_before;
+  stats.cost_after = s2.cost_after;
+  stats.seconds_triangulate = s2.seconds_triangulate;
+  stats.seconds_optimize = s2.seconds_optimize;
+  stats.seconds_render = s2.seconds_render;
+  Volume result(out[0], out[1], out[2]);
+  for (int Z = 0; Z < out[2]; ++Z)
+    for (int Y = 0; Y < out[1]; ++Y)
+      for (int X = 0; X < out[0]; ++X) {
+        const int c[3] = {X, Y, Z};
+        result.at(X, Y, Z) = big.at(c[u], c[v]);
+      }
+  return result;
+}
+
+}  // namespace
+
+int volume_region_slices(int nx, int ny, int nz) {
+  const long long cells_per_slice = 6LL * std::max(1, nx - 1) * std::max(1, ny - 1);  // 6 per cube
+  if (cells_per_slice * std::max(1, nz - 1) <= 2 * core::default_region_cells) return nz;
+  return static_cast<int>(std::max(16LL, core::default_region_cells / cells_per_slice));
+}
+
+const std::vector<std::string>& volume_upscale_methods() {
+  static const std::vector<std::string> names = {"ddt", "delaunay", "trilinear", "tricubic"};
+  return names;
+}
+
+Volume upscale_volume(const Volume& src, int nx, int ny, int nz, const VolumeUpscaleOptions& options,
+                      VolumeUpscaleStats* stats) {
+  if (src.empty() || src.nx <= 0 || src.ny <= 0 || src.nz <= 0) throw Error("the input volume is empty");
+  if (nx < 1 || ny < 1 || nz < 1) throw Error("the output size must be at least 1x1x1");
+  const auto& methods = volume_upscale_methods();
+  if (std::find(methods.begin(), methods.end(), options.method) == methods.end())
+    throw Error("unknown method '" + options.method + "' (valid: ddt, delaunay, trilinear, tricubic)");
+  const CostFunction& cost = find_cost(options.cost);
+  VolumeUpscaleStats local;
+  auto log = [&](const std::string& line) {
+    if (options.log) options.log(line);
+  };
+  if (options.method == "trilinear" || options.method == "tricubic") {
+    auto t0 = std::chrono::steady_clock::now();
+    Volume out = classic_resize_volume(src, nx, ny, nz, options.method);
+    local.seconds_render = seconds_since(t0);
+    if (stats) *stats = local;
+    return out;
+  }
+  const int out_size[3] = {nx, ny, nz};
+  if (src.nx == 1 || src.ny == 1 || src.nz == 1) {
+    log("a single slice: enlarged by the 2D method and repeated along the thin axis");
+    Volume out = upscale_planar(src, out_size, options, local);
+    if (stats) *stats = local;
+    return out;
+  }
+
+  auto t0 = std::chrono::steady_clock::now();
+  core::SimplexMesh<3> mesh = grid_tetrahedralization(src.nx, src.ny, src.nz);  // = CGAL's Delaunay of the voxel centres
+  local.seconds_triangulate = seconds_since(t0);
+  local.tetrahedra = mesh.cell_count();
+  log("tetrahedralize: " + std::to_string(mesh.points.size()) + " points, " + std::to_string(mesh.cell_count()) +
+      " tetrahedra, " + std::to_string(local.seconds_triangulate) + " s");
+
+  t0 = std::chrono::steady_clock::now();
+  if (options.method == "ddt") {
+    core::LawsonOptions lawson;
+    lawson.relative_tolerance = options.relative_tolerance;
+    lawson.max_iterations = options.max_iterations;
+    const int slices = options.region_slices > 0 ? options.region_slices : volume_region_slices(src.nx, src.ny, src.nz);
+    lawson.region_vertices = slices >= src.nz ? -1 : static_cast<long long>(slices) * src.nx * src.ny;
+    if (options.log)
+      lawson.on_iteration = [&](int iteration, const core::FlipCounts& flips, double total) {
+        char line[300];
+        std::snprintf(line, sizeof line, "optimize: iteration %d, flips %s, cost %.9g", iteration,
+                      flips.summary().c_str(), total);
+        log(line);
+      };
+    const core::LawsonStats ls = core::optimize_lawson<3>(mesh, src.voxels, 1, cost, lawson);
+    local.iterations = ls.iterations;
+    local.flips = ls.flips;
+    local.cost_before = ls.cost_before;
+    local.cost_after = ls.cost_after;
+    local.tetrahedra = mesh.cell_count();
+    local.seconds_optimize = seconds_since(t0);
+    char line[400];
+    std::snprintf(line, sizeof line,
+                  "optimize: cost %s, %d iterations, %d slabs, flips %s (total %lld), %lld tests (%lld deferred), cost "
+                  "%.9g -> %.9g, %lld tetrahedra, %.3f s",
+                  cost.name, local.iterations, ls.regions, local.flips.summary().c_str(), local.flips.total(), ls.tests,
+                  ls.deferred, local.cost_before, local.cost_after, local.tetrahedra, local.seconds_optimize);
+    log(line);
+  }
+
+  t0 = std::chrono::steady_clock::now();
+  VolumeGrid grid;
+  grid.nx = nx, grid.ny = ny, grid.nz = nz;
+  grid.scale_x = double(nx) / src.nx;
+  grid.scale_y = double(ny) / src.ny;
+  grid.scale_z = double(nz) / src.nz;
+  Render3Stats rs;
+  Volume out = render_tetrahedra(mesh, src.voxels, grid, &rs);
+  local.seconds_render = seconds_since(t0);
+  log("render: " + std::to_string(nx) + "x" + std::to_string(ny) + "x" + std::to_string(nz) + ", " +
+      std::to_string(rs.owned) + " voxels in tetrahedra + " + std::to_string(rs.rim) + " on the hull rim, " +
+      std::to_string(local.seconds_render) + " s");
+  if (stats) *stats = local;
+  return out;
+}
+
+}  // namespace ddt

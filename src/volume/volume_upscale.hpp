@@ -1,0 +1,71 @@
+#pragma once
+// ddt::upscale_volume — enlarge a scalar volume by data-dependent
+// tetrahedrization (the paper's 3D method), or by a classic resampler.
+//
+// Pipeline ("ddt"): samples at voxel centres -> Delaunay tetrahedrization
+// (CGAL, tetrahedralization.hpp) -> generalized Lawson optimization of the
+// weighted content with 2-3, 3-2, 4-4 (and hull 2-2) flips, on the
+// dimension-generic core with its parallel slab schedule (core/lawson.hpp)
+// -> scan conversion of the piecewise-linear field at the output
+// resolution (rasterizer3.hpp).
+//
+// Output voxel (X, Y, Z) samples the field at ((X + 0.5) / sx, ...), with
+// s = n_out / n_in per axis; outside the samples' hull (the half-voxel rim)
+// the value is that of the nearest hull point (clamping: the hull is a box).
+//
+// A volume with a single slice along some axis has no 3D tetrahedrization:
+// it is enlarged by the 2D method (upscale.hpp) on the other two axes and
+// repeated along the thin one(s), which is what the 3D field would be.
+//
+// Methods: "ddt" (default), "delaunay" (the initial mesh, no flips), and the
+// classic "trilinear" and "tricubic" (volume_resample.hpp).
+//
+// Errors: throws ddt::Error (empty volume, bad size, unknown method or cost).
+
+#include "core/lawson.hpp"
+#include "volume/volume.hpp"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace ddt {
+
+struct VolumeUpscaleOptions {
+  std::string method = "ddt";         // one of volume_upscale_methods()
+  std::string cost = "variance";      // a name from costs.hpp (the paper's 3D experiments use variance)
+  double relative_tolerance = 1e-9;   // a flip must lower the local cost by more than this fraction
+  int max_iterations = 10000;         // safety bound on Lawson sweeps
+  // Input slices per slab of the parallel schedule; 0: volume_region_slices.
+  // The output depends on it, never on the number of threads.
+  int region_slices = 0;
+  std::function<void(const std::string&)> log;  // verbose lines; may be empty
+};
+
+struct VolumeUpscaleStats {
+  long long tetrahedra = 0;
+  int iterations = 0;
+  core::FlipCounts flips;
+  double cost_before = 0, cost_after = 0;
+  double seconds_triangulate = 0, seconds_optimize = 0, seconds_render = 0;
+  bool planar = false;          // handled by the 2D method (a single slice)
+  long long planar_flips = 0;   // its 2D edge flips
+};
+
+// Outputs larger than this many voxels are refused by the command line and
+// the Python module unless raised (--max-voxels, max_voxels=).
+inline constexpr long long default_max_voxels = 1LL << 29;
+
+const std::vector<std::string>& volume_upscale_methods();  // ddt, delaunay, trilinear, tricubic
+
+// The default slab of the schedule for an nx x ny x nz volume: about
+// core::default_region_cells tetrahedra, at least 16 slices (a flip reaches
+// one slice on either side, so thinner slabs defer too much); the whole
+// volume (one region, the sequential procedure) up to twice that.
+int volume_region_slices(int nx, int ny, int nz);
+
+// Enlarges `src` to nx x ny x nz (each >= 1).
+Volume upscale_volume(const Volume& src, int nx, int ny, int nz, const VolumeUpscaleOptions& options = {},
+                      VolumeUpscaleStats* stats = nullptr);
+
+}  // namespace ddt

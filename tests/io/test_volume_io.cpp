@@ -1,0 +1,191 @@
+#include "util/error.hpp"
+#include "test_support.hpp"
+#include "io/volume_io.hpp"
+
+#include <doctest/doctest.h>
+
+#include <teem/nrrd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+using namespace ddt;
+namespace fs = std::filesystem;
+
+namespace {
+
+using test::TempDir;
+
+Volume ramp(int nx, int ny, int nz, double scale) {
+  Volume v(nx, ny, nz);
+  for (int z = 0; z < nz; ++z)
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x) v.at(x, y, z) = static_cast<float>(scale * (x + 2 * y + 3 * z) / (nx + 2 * ny + 3 * nz));
+  return v;
+}
+
+// A NRRD with world geometry, written by Teem directly (not by write_volume).
+void write_geometric_nrrd(const std::string& path, const Volume& v) {
+  Nrrd* n = nrrdNew();
+  std::vector<unsigned short> data(v.voxel_count());
+  for (std::size_t i = 0; i < data.size(); ++i) data[i] = static_cast<unsigned short>(v.voxels[i]);
+  REQUIRE(nrrdWrap_va(n, data.data(), nrrdTypeUShort, 3, std::size_t(v.nx), std::size_t(v.ny), std::size_t(v.nz)) == 0);
+  n->space = nrrdSpaceRightAnteriorSuperior;
+  n->spaceDim = 3;
+  const double dirs[3][3] = {{0.5, 0, 0}, {0, 0.6, 0}, {0, 0, 2.0}};
+  for (int a = 0; a < 3; ++a) {
+    for (int d = 0; d < 3; ++d) n->axis[a].spaceDirection[d] = dirs[a][d];
+    n->axis[a].center = nrrdCenterCell;
+  }
+  n->spaceOrigin[0] = 10, n->spaceOrigin[1] = -5, n->spaceOrigin[2] = 1;
+  nrrdKeyValueAdd(n, "modality", "CT");
+  NrrdIoState* nio = nrrdIoStateNew();
+  nio->encoding = nrrdEncodingGzip;
+  REQUIRE(nrrdSave(path.c_str(), n, nio) == 0);
+  nrrdIoStateNix(nio);
+  nrrdNix(n);
+}
+
+}  // namespace
+
+TEST_CASE("write_volume / read_volume: every sample type and encoding round-trips and keeps its type") {
+  TempDir dir;
+  for (VolumeSampleType type : {VolumeSampleType::uint8, VolumeSampleType::int8, VolumeSampleType::uint16,
+                                VolumeSampleType::int16, VolumeSampleType::int32, VolumeSampleType::float32,
+                                VolumeSampleType::float64}) {
+    for (VolumeEncoding enc : {VolumeEncoding::raw, VolumeEncoding::gzip}) {
+      const std::string name = std::string(sample_type_name(type)) + "-" + encoding_name(enc) + ".nrrd";
+      CAPTURE(name);
+      const Volume v = ramp(5, 4, 3, type == VolumeSampleType::int8 ? 100 : 250);
+      write_volume(dir / name, v, type, enc);
+      const VolumeFile f = read_volume(dir / name);
+      CHECK(f.type == type);
+      CHECK(f.encoding == enc);
+      REQUIRE(f.volume.nx == 5);
+      REQUIRE(f.volume.ny == 4);
+      REQUIRE(f.volume.nz == 3);
+      const bool integer = type != VolumeSampleType::float32 && type != VolumeSampleType::float64;
+      for (std::size_t i = 0; i < v.voxels.size(); ++i)
+        CHECK(f.volume.voxels[i] == (integer ? std::nearbyint(v.voxels[i]) : v.voxels[i]));
+    }
+  }
+}
+
+TEST_CASE("write_volume: integer output is rounded and clamped to the type's range") {
+  TempDir dir;
+  Volume v(3, 1, 1);
+  v.voxels = {-7.6f, 100.5f, 300.2f};
+  write_volume(dir / "u8.nrrd", v, VolumeSampleType::uint8, VolumeEncoding::raw);
+  const VolumeFile f = read_volume(dir / "u8.nrrd");
+  CHECK(f.volume.voxels == std::vector<float>{0.f, 100.f, 255.f});  // 100.5 rounds to even
+}
+
+TEST_CASE("write_volume: spacing, directions and origin are scaled so samples keep their world position") {
+  TempDir dir;
+  const Volume v = ramp(4, 5, 6, 1000);
+  write_geometric_nrrd(dir / "geo.nrrd", v);
+  const VolumeFile in = read_volume(dir / "geo.nrrd");
+  CHECK(in.type == VolumeSampleType::uint16);
+  CHECK(in.encoding == VolumeEncoding::gzip);
+  const Volume big(16, 10, 6);  // x4, x2, x1
+  write_volume(dir / "big.nrrd", big, in.type, in.encoding, in.header.get(), "test");
+  Nrrd* n = nrrdNew();
+  REQUIRE(nrrdLoad(n, (dir / "big.nrrd").c_str(), nullptr) == 0);
+  CHECK(n->type == nrrdTypeUShort);
+  CHECK(n->space == nrrdSpaceRightAnteriorSuperior);
+  CHECK(n->axis[0].spaceDirection[0] == doctest::Approx(0.125));
+  CHECK(n->axis[1].spaceDirection[1] == doctest::Approx(0.3));
+  CHECK(n->axis[2].spaceDirection[2] == doctest::Approx(2.0));
+  // Output sample X sits at input index (X + 0.5) / s - 0.5: the first at -0.375 (x4), -0.25 (x2), 0 (x1).
+  CHECK(n->spaceOrigin[0] == doctest::Approx(10 - 0.375 * 0.5));
+  CHECK(n->spaceOrigin[1] == doctest::Approx(-5 - 0.25 * 0.6));
+  CHECK(n->spaceOrigin[2] == doctest::Approx(1.0));
+  char* modality = nrrdKeyValueGet(n, "modality");  // Teem returns a copy we must free
+  REQUIRE(modality != nullptr);
+  CHECK(std::string(modality) == "CT");
+  free(modality);
+  nrrdNuke(n);
+}
+
+TEST_CASE("write_volume: a detached header (.nhdr) names its data file, written atomically beside it") {
+  TempDir dir;
+  const Volume v = ramp(3, 3, 3, 10);
+  write_volume(dir / "d.nhdr", v, VolumeSampleType::float32, VolumeEncoding::gzip);
+  CHECK(fs::exists(dir / "d.nhdr"));
+  CHECK(fs::exists(dir / "d.raw.gz"));
+  const VolumeFile f = read_volume(dir / "d.nhdr");
+  CHECK(f.volume.voxels == v.voxels);
+  for (const auto& entry : fs::directory_iterator(dir.path))  // no temporary left behind
+    CHECK(entry.path().filename().string().rfind(".ddtscale-", 0) != 0);
+}
+
+TEST_CASE("read_volume: bad files give one-line errors") {
+  TempDir dir;
+  CHECK_THROWS_AS(read_volume(dir / "missing.nrrd"), Error);
+  {
+    std::ofstream(dir / "junk.nrrd") << "this is not a nrrd";
+  }
+  try {
+    read_volume(dir / "junk.nrrd");
+    FAIL("no error");
+  } catch (const Error& e) {
+    CHECK(std::string(e.what()).find('\n') == std::string::npos);
+  }
+  {
+    std::ofstream(dir / "short.nrrd") << "NRRD0004\ntype: float\ndimension: 3\nsizes: 4 4 4\nencoding: raw\nendian: little\n\nabc";
+  }
+  CHECK_THROWS_AS(read_volume(dir / "short.nrrd"), Error);
+  {
+    std::ofstream rgb(dir / "rgb.nrrd");
+    rgb << "NRRD0004\ntype: uchar\ndimension: 4\nsizes: 3 2 2 2\nencoding: ascii\n\n";
+    for (int i = 0; i < 24; ++i) rgb << "1 ";
+  }
+  try {
+    read_volume(dir / "rgb.nrrd");
+    FAIL("no error");
+  } catch (const Error& e) {
+    CHECK(std::string(e.what()).find("3x2x2x2") != std::string::npos);
+  }
+  CHECK_THROWS_AS(write_volume(dir / "x.png", Volume(2, 2, 2), VolumeSampleType::uint8, VolumeEncoding::raw), Error);
+}
+
+TEST_CASE("read_volume: a 2-axis NRRD is one slice; a leading axis of size 1 is dropped") {
+  TempDir dir;
+  {
+    std::ofstream(dir / "slice.nrrd") << "NRRD0004\ntype: float\ndimension: 2\nsizes: 3 2\nencoding: ascii\n\n1 2 3 4 5 6\n";
+    std::ofstream(dir / "scalar4.nrrd")
+        << "NRRD0004\ntype: short\ndimension: 4\nsizes: 1 2 1 2\nencoding: ascii\n\n-1 2 3 4\n";
+  }
+  const VolumeFile s = read_volume(dir / "slice.nrrd");
+  CHECK(s.volume.nx == 3);
+  CHECK(s.volume.ny == 2);
+  CHECK(s.volume.nz == 1);
+  CHECK(s.encoding == VolumeEncoding::ascii);
+  const VolumeFile f = read_volume(dir / "scalar4.nrrd");
+  CHECK(f.volume.nx == 2);
+  CHECK(f.volume.nz == 2);
+  CHECK(f.volume.voxels == std::vector<float>{-1, 2, 3, 4});
+  // Written back with the same layout.
+  write_volume(dir / "scalar4b.nrrd", f.volume, f.type, VolumeEncoding::raw, f.header.get());
+  Nrrd* n = nrrdNew();
+  REQUIRE(nrrdLoad(n, (dir / "scalar4b.nrrd").c_str(), nullptr) == 0);
+  CHECK(n->dim == 4);
+  nrrdNuke(n);
+}
+
+TEST_CASE("check_volume_output_path: refuses the input, other extensions and missing directories") {
+  TempDir dir;
+  write_volume(dir / "a.nrrd", Volume(2, 2, 2), VolumeSampleType::uint8, VolumeEncoding::raw);
+  CHECK_THROWS_AS(check_volume_output_path(dir / "a.nrrd", dir / "a.nrrd"), Error);
+  CHECK_THROWS_AS(check_volume_output_path(dir / "b.png", dir / "a.nrrd"), Error);
+  CHECK_THROWS_AS(check_volume_output_path(dir / "nodir/b.nrrd", dir / "a.nrrd"), Error);
+  CHECK_NOTHROW(check_volume_output_path(dir / "b.nhdr", dir / "a.nrrd"));
+  CHECK(is_volume_path("X.NRRD"));
+  CHECK_FALSE(is_volume_path("x.png"));
+  CHECK(parse_sample_type("ushort") == VolumeSampleType::uint16);
+  CHECK_THROWS_AS(parse_sample_type("rgb"), Error);
+  CHECK_THROWS_AS(parse_encoding("zip"), Error);
+}

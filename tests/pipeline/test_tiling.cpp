@@ -1,0 +1,165 @@
+// Tiles (bands of input rows with overlapping margins) and row windows of
+// the rasterizer: a tiled run must equal the untiled run bit for bit.
+
+#include "util/error.hpp"
+#include "image/rasterizer.hpp"
+#include "eval/synthetic_scenes.hpp"
+#include "test_support.hpp"
+#include "image/triangulation.hpp"
+#include "pipeline/upscale.hpp"
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <random>
+
+using namespace ddt;
+
+namespace {
+
+// A medium image with edges, smooth parts and fine texture (many flips).
+Image textured(int w, int h) {
+  const Image a = render_scene(find_scene("colour_regions"), w, h);
+  const Image b = render_scene(find_scene("strokes"), w, h);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> noise(-0.03f, 0.03f);
+  Image img(w, h, 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c) img.at(x, y, c) = 0.6f * a.at(x, y, c) + 0.4f * b.at(x, y, 0) + noise(rng);
+  return img;
+}
+
+long long differing(const Image& a, const Image& b) {
+  long long n = 0;
+  for (std::size_t i = 0; i < a.pixels.size(); ++i) n += a.pixels[i] != b.pixels[i];
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE("upscale: a tiled run equals the untiled run bit for bit") {
+  const Image in = textured(150, 130);
+  for (const char* render : {"linear", "cubic"})
+    for (const char* cost : {"sederberg", "variance"})
+      for (double scale : {3.0, 2.5}) {
+        CAPTURE(render);
+        CAPTURE(cost);
+        CAPTURE(scale);
+        UpscaleOptions opt;
+  opt.model.kind = AcquisitionModel::Kind::point;
+        opt.model.kind = AcquisitionModel::Kind::point;  // the consistent reconstruction does not tile yet
+        opt.render = render;
+        opt.cost = cost;
+        opt.region_rows = 8;  // many regions, so that bands cut through them
+        const int ow = static_cast<int>(150 * scale), oh = static_cast<int>(130 * scale);
+        UpscaleStats whole, bands;
+        const Image a = upscale(in, ow, oh, opt, &whole);
+        opt.tile_rows = 37;  // not a multiple of the regions: bands cut regions anywhere
+        const Image b = upscale(in, ow, oh, opt, &bands);
+        CHECK(whole.tiles == 1);
+        CHECK(bands.tiles == 4);
+        CHECK(whole.regions > 4);
+        CHECK(whole.flips > 1000);
+        REQUIRE(a.pixels.size() == b.pixels.size());
+        CHECK(differing(a, b) == 0);
+      }
+}
+
+TEST_CASE("upscale: automatic tiling under a small memory budget gives the same image") {
+  const Image in = textured(60, 700);
+  UpscaleOptions opt;
+  opt.model.kind = AcquisitionModel::Kind::point;
+  opt.region_rows = 16;  // the same schedule in both runs (automatic only turns regions on for large images)
+  UpscaleStats whole, bands;
+  const Image a = upscale(in, 120, 1400, opt, &whole);
+  opt.max_memory = 1;  // nothing fits: bands of the smallest height, 256 rows
+  const Image b = upscale(in, 120, 1400, opt, &bands);
+  CHECK(whole.tiles == 1);
+  CHECK(bands.tiles == 3);
+  CHECK(differing(a, b) == 0);
+  opt.tile_rows = -1;  // never
+  UpscaleStats never;
+  upscale(in, 120, 1400, opt, &never);
+  CHECK(never.tiles == 1);
+}
+
+TEST_CASE("render_mesh: a window of rows is the same rows of the whole image") {
+  const Image in = textured(40, 30);
+  Mesh2 mesh = delaunay_triangulation(test::grid_points(40, 30));
+  RenderGrid g;
+  g.width = 97, g.height = 71;  // scale 2.425 x 2.3667: the general (filtered) path
+  g.scale_x = 97.0 / 40, g.scale_y = 71.0 / 30;
+  for (double s : {1.0, 4.0}) {
+    if (s == 4.0) g.width = 160, g.height = 120, g.scale_x = g.scale_y = 4.0;  // the exact path
+    const Image whole = render_mesh(mesh, in.pixels, 3, g);
+    RenderGrid part = g;
+    part.first_row = 13, part.rows = 29;
+    RenderStats st;
+    const Image window = render_mesh(mesh, in.pixels, 3, part, &st);
+    REQUIRE(window.height == 29);
+    CHECK(st.uncovered == 0);
+    CHECK(st.overcovered == 0);
+    long long diff = 0;
+    for (int y = 0; y < 29; ++y)
+      for (int x = 0; x < g.width; ++x)
+        for (int c = 0; c < 3; ++c) diff += window.at(x, y, c) != whole.at(x, y + 13, c);
+    CHECK(diff == 0);
+    // Into a larger image: only the rows asked for change.
+    Image into(g.width, 50, 3, -1.0f);
+    render_mesh_into(into, 5, mesh, in.pixels, 3, part);
+    for (int x = 0; x < g.width; ++x) {
+      CHECK(into.at(x, 4, 0) == -1.0f);
+      CHECK(into.at(x, 34, 0) == -1.0f);
+      CHECK(into.at(x, 5, 1) == whole.at(x, 13, 1));
+      CHECK(into.at(x, 33, 2) == whole.at(x, 41, 2));
+    }
+    Image small(g.width, 10, 3);
+    CHECK_THROWS(render_mesh_into(small, 0, mesh, in.pixels, 3, part));
+  }
+}
+
+TEST_CASE("upscale_rows: bands with margins are the whole image's rows, bit for bit") {
+  const Image in = textured(90, 120);
+  UpscaleOptions opt;
+  opt.model.kind = AcquisitionModel::Kind::point;
+  opt.region_rows = 8;
+  for (double scale : {2.0, 2.5}) {
+    CAPTURE(scale);
+    const int ow = static_cast<int>(90 * scale), oh = static_cast<int>(120 * scale);
+    UpscaleStats whole;
+    const Image a = upscale(in, ow, oh, opt, &whole);
+    const int margin = band_margin_needed(whole.iterations + 2, 8);
+    // Bands of 35 rows (regions cut anywhere), each from its rows and margins only.
+    for (int first = 0; first < 120; first += 35) {
+      const int end = std::min(120, first + 35);
+      const int top = std::max(0, first - margin), bottom = std::min(120, end + margin);
+      Image rows(90, bottom - top, 3);
+      std::copy(in.pixels.begin() + static_cast<std::ptrdiff_t>(in.index(0, top)),
+                in.pixels.begin() + static_cast<std::ptrdiff_t>(in.index(0, bottom - 1) + 90 * 3), rows.pixels.begin());
+      const Image band = upscale_rows(rows, top, 120, first, end, ow, oh, opt);
+      const int y0 = output_row_of(first, 120, oh);
+      REQUIRE(band.height == output_row_of(end, 120, oh) - y0);
+      long long differ = 0;
+      for (std::size_t i = 0; i < band.pixels.size(); ++i)
+        differ += band.pixels[i] != a.pixels[static_cast<std::size_t>(y0) * ow * 3 + i];
+      CHECK(differ == 0);
+    }
+  }
+}
+
+TEST_CASE("upscale_rows: refuses what a band cannot reproduce") {
+  const Image in = textured(40, 60);
+  Image rows(40, 30, 3);
+  std::copy(in.pixels.begin(), in.pixels.begin() + static_cast<std::ptrdiff_t>(rows.pixels.size()), rows.pixels.begin());
+  UpscaleOptions opt;  // the box model: the consistent reconstruction is whole-image
+  CHECK_THROWS_WITH_AS(upscale_rows(rows, 0, 60, 0, 20, 80, 120, opt), doctest::Contains("--model point"), Error);
+  opt.model.kind = AcquisitionModel::Kind::point;
+  opt.region_rows = 4;
+  CHECK_THROWS_WITH_AS(upscale_rows(rows, 0, 60, 0, 30, 80, 120, opt), doctest::Contains("too narrow"), Error);
+  CHECK_THROWS_AS(upscale_rows(rows, 0, 60, 10, 40, 80, 120, opt), Error);  // rows not held
+  // The whole image as one band is upscale() itself, in any model.
+  const Image whole = upscale(in, 80, 120, UpscaleOptions{});
+  const Image band = upscale_rows(in, 0, 60, 0, 60, 80, 120, UpscaleOptions{});
+  CHECK(differing(whole, band) == 0);
+}
