@@ -19,6 +19,7 @@
 
 UpscaleCommandLine parse_upscale_command_line(int argc, const char* const* argv) {
   UpscaleCommandLine line;
+  UpscaleArguments& args = line.args;
   CLI::App app{"ddtscale: enlarge an image by data-dependent triangulation (DDT).\n"
                "The pixels become a heightfield, triangulated (Delaunay, then edge flips that lower a cost)\n"
                "so that long thin triangles follow the edges; the surface on the mesh is rendered at the\n"
@@ -26,30 +27,30 @@ UpscaleCommandLine parse_upscale_command_line(int argc, const char* const* argv)
                "`ddtscale eval --help` (benchmark), `ddtscale grid --help` (scattered points),\n"
                "`ddtscale scene --help` (test scenes), `ddtscale volume-eval --help`, `ddtscale volume-field --help`.",
                "ddtscale"};
-  app.add_option("input", line.args.input, "input image (PNG, JPEG, TIFF, EXR, ... anything OpenImageIO reads)")->required();
-  app.add_option("output", line.args.output,
+  app.add_option("input", args.input, "input image (PNG, JPEG, TIFF, EXR, ... anything OpenImageIO reads)")->required();
+  app.add_option("output", args.output,
                  "output image; format from the extension (EXR keeps float, PNG/TIFF keep the input's bit depth)");
   // Many files at once (cli/batch.hpp): with --outdir every positional is an input.
   std::vector<std::string> more_inputs;
   app.add_option("more", more_inputs)->group("");
-  app.add_option("-s,--scale", line.args.scale, "magnification, any real > 0 (e.g. 10 or 2.5)");
-  app.add_option("-W,--width", line.args.width, "output width in pixels (height follows the aspect unless given)")
+  app.add_option("-s,--scale", args.scale, "magnification, any real > 0 (e.g. 10 or 2.5)");
+  app.add_option("-W,--width", args.width, "output width in pixels (height follows the aspect unless given)")
       ->check(whole_number(1, std::numeric_limits<int>::max()));
-  app.add_option("-H,--height", line.args.height, "output height in pixels (width follows the aspect unless given)")
+  app.add_option("-H,--height", args.height, "output height in pixels (width follows the aspect unless given)")
       ->check(whole_number(1, std::numeric_limits<int>::max()));
-  app.add_option("--cost", line.args.cost, "flip cost: " + ddt::cost_names_joined())->capture_default_str();
-  app.add_option("--cost-channel", line.args.cost_channel,
+  app.add_option("--cost", args.cost, "flip cost: " + ddt::cost_names_joined())->capture_default_str();
+  app.add_option("--cost-channel", args.cost_channel,
                  "what drives the flips: sum (of per-channel costs) or luma (luminance only)")
       ->check(CLI::IsMember({"sum", "luma"}))
       ->capture_default_str();
-  app.add_option("--render", line.args.render,
+  app.add_option("--render", args.render,
                  "surface drawn on the mesh: cubic (smooth Bézier patches, default) or linear (the paper's)")
       ->check(CLI::IsMember(ddt::render_names()))
       ->capture_default_str();
-  app.add_option("--slopes", line.args.slopes, "cubic render: slope limiter of the vertex gradients: mc4, mc, central, minmod")
+  app.add_option("--slopes", args.slopes, "cubic render: slope limiter of the vertex gradients: mc4, mc, central, minmod")
       ->check(CLI::IsMember({"mc4", "mc", "central", "minmod"}))
       ->capture_default_str();
-  app.add_option("--model", line.args.model,
+  app.add_option("--model", args.model,
                  "how an input pixel was made: box (its area's average, default), gauss:SIGMA (the area blurred "
                  "by a Gaussian PSF of SIGMA input pixels), bicubic (MATLAB's antialiased imresize, the SR "
                  "benchmark's) or point (a sample at its centre: the plain interpolation). The output, mapped "
@@ -63,38 +64,38 @@ UpscaleCommandLine parse_upscale_command_line(int argc, const char* const* argv)
         }
       })
       ->capture_default_str();
-  app.add_flag("--no-step-edges", line.args.no_step_edges,
+  app.add_flag("--no-step-edges", args.no_step_edges,
                "box model: keep the smooth reconstruction where one straight edge between two flat levels "
                "explains a pixel's 3x3 neighbourhood (by default it is drawn as that edge, sharp to the output "
                "pixel)");
-  app.add_flag("--no-optimize", line.args.no_optimize, "skip the flips: render the initial Delaunay mesh");
-  app.add_option("--tolerance", line.args.tolerance, "a flip must lower the local cost by more than this fraction")
+  app.add_flag("--no-optimize", args.no_optimize, "skip the flips: render the initial Delaunay mesh");
+  app.add_option("--tolerance", args.tolerance, "a flip must lower the local cost by more than this fraction")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
-  app.add_option("--max-pixels", line.args.max_pixels, "refuse outputs with more pixels than this")
+  app.add_option("--max-pixels", args.max_pixels, "refuse outputs with more pixels than this")
       ->check(whole_number(1))
       ->capture_default_str();
-  app.add_option("--max-input-pixels", line.args.max_input_pixels,
+  app.add_option("--max-input-pixels", args.max_input_pixels,
                  "refuse inputs with more pixels than this, from the file's header before decoding (default: "
                  "the physical memory / 32)")
       ->check(whole_number(1))
       ->capture_default_str();
-  app.add_option("--compare", line.args.compare,
+  app.add_option("--compare", args.compare,
                  "write one image: this classic method (OpenImageIO filter) on the left, DDT on the right")
       ->check(CLI::IsMember(ddt::classic_methods()));
-  app.add_option("--mesh", line.args.mesh_view,
+  app.add_option("--mesh", args.mesh_view,
                  "also draw the optimized triangulation over the input (.svg, or .png and other raster formats)");
-  app.add_option("--mesh-roi", line.args.mesh_roi,
+  app.add_option("--mesh-roi", args.mesh_roi,
                  "x,y,w,h: the input region the mesh view shows (default: all of an image up to 256x256, "
                  "else its central 128x128)");
   bool list_costs = false;
   app.add_flag("--list-costs", list_costs, "print the cost names, one a line, and exit");
-  add_optimizer_options(app, line.args.optimizer, line.args.anneal);
-  app.add_flag("-v,--verbose", line.args.verbose, "report iterations, flips, cost and the time of each stage");
-  app.add_flag("-q,--quiet", line.args.quiet, "print nothing but errors (and no progress bar)");
-  app.add_option("--threads", line.args.threads, "threads to use (default: all cores; more than the cores are not used)")
+  add_optimizer_options(app, args.optimizer, args.anneal);
+  app.add_flag("-v,--verbose", args.verbose, "report iterations, flips, cost and the time of each stage");
+  app.add_flag("-q,--quiet", args.quiet, "print nothing but errors (and no progress bar)");
+  app.add_option("--threads", args.threads, "threads to use (default: all cores; more than the cores are not used)")
       ->check(whole_number(0, 4096));
-  app.add_option("--tile-rows", line.args.tile_rows,
+  app.add_option("--tile-rows", args.tile_rows,
                  "process the image in bands of this many input rows (same output; default: only when it would "
                  "not fit in half the memory; -1: never)")
       ->check(whole_number(-1, std::numeric_limits<int>::max()));
@@ -131,9 +132,9 @@ UpscaleCommandLine parse_upscale_command_line(int argc, const char* const* argv)
     }
   try {
     app.parse(argc, argv);
-    line.args.scale_given = app.count("--scale") > 0;
-    line.args.width_given = app.count("--width") > 0;
-    line.args.height_given = app.count("--height") > 0;
+    args.scale_given = app.count("--scale") > 0;
+    args.width_given = app.count("--width") > 0;
+    args.height_given = app.count("--height") > 0;
   } catch (const CLI::CallForHelp&) {
     line.action = UpscaleCommandLine::Action::help;
     line.text = app.help();
@@ -145,13 +146,13 @@ UpscaleCommandLine parse_upscale_command_line(int argc, const char* const* argv)
   }
   if (!line.batch.outdir.empty()) {
     line.action = UpscaleCommandLine::Action::batch;
-    line.batch_inputs = {line.args.input};
-    if (!line.args.output.empty()) line.batch_inputs.push_back(line.args.output);
+    line.batch_inputs = {args.input};
+    if (!args.output.empty()) line.batch_inputs.push_back(args.output);
     line.batch_inputs.insert(line.batch_inputs.end(), more_inputs.begin(), more_inputs.end());
     line.forwarded = forwarded_options(app);
     return line;
   }
-  if (line.args.output.empty() || !more_inputs.empty()) {
+  if (args.output.empty() || !more_inputs.empty()) {
     line.action = UpscaleCommandLine::Action::usage_error;
     line.text = "give an input and an output image (many inputs: --outdir DIR) (see ddtscale --help)";
   }

@@ -2,7 +2,8 @@
 // in and out of the library's upscale, upscale_volume and grid_points. The
 // Python package (python/ddtscale/__init__.py) wraps these with docstrings
 // and keyword options; the options are parsed in python/options.cpp.
-// The GIL is released while the library works.
+// The GIL is released while the library works; Ctrl-C stops the image
+// calls (run_interruptibly).
 
 #include "arrays.hpp"
 #include "options.hpp"
@@ -22,9 +23,14 @@
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <condition_variable>
+#include <exception>
+#include <functional>
 #include <iostream>
 #include <memory>
+#include <mutex>
 #include <thread>
 
 namespace py = pybind11;
@@ -38,6 +44,51 @@ std::unique_ptr<tbb::global_control> thread_limit(int threads) {
   const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   if (threads <= 0) return nullptr;
   return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, std::min(threads, cores));
+}
+
+// Runs `work`, the library's computation reporting to `progress`, with the
+// GIL released, in a way Ctrl-C stops: Python runs signal handlers only in
+// the main thread and with the GIL, so the computation runs on a thread of
+// its own while the calling thread checks for signals every 20 ms, taking
+// the GIL back for each check. When a handler raises (SIGINT:
+// KeyboardInterrupt), `progress` is cancelled, the computation stops at its
+// next report (ddt::Cancelled, progress.hpp), and the handler's exception
+// is raised here. Called with the GIL held; the exceptions of `work` are
+// rethrown as they are.
+void run_interruptibly(ddt::Progress& progress, const std::function<void()>& work) {
+  std::exception_ptr failure;
+  bool interrupted = false;
+  {
+    py::gil_scoped_release release;
+    std::mutex mutex;
+    std::condition_variable finished;
+    bool done = false;
+    std::thread worker([&] {
+      try {
+        work();
+      } catch (...) {
+        failure = std::current_exception();
+      }
+      const std::lock_guard<std::mutex> lock(mutex);
+      done = true;
+      finished.notify_one();
+    });
+    std::unique_lock<std::mutex> lock(mutex);
+    while (!finished.wait_for(lock, std::chrono::milliseconds(20), [&] { return done; })) {
+      if (interrupted) continue;
+      lock.unlock();
+      {
+        py::gil_scoped_acquire gil;
+        interrupted = PyErr_CheckSignals() != 0;  // the handler's exception stays set
+      }
+      if (interrupted) progress.cancel();
+      lock.lock();
+    }
+    lock.unlock();
+    worker.join();
+  }
+  if (interrupted) throw py::error_already_set();
+  if (failure) std::rethrow_exception(failure);
 }
 
 std::function<void(const std::string&)> stderr_log(bool verbose) {
@@ -126,16 +177,17 @@ py::array upscale(const py::array& array, const py::object& scale, const py::obj
   call.options.log = stderr_log(call.verbose);
   ddt::UpscaleStats stats;
   ddt::Image out;
-  {
-    py::gil_scoped_release release;
+  ddt::Progress progress;
+  call.options.progress = &progress;
+  run_interruptibly(progress, [&] {
     const auto limit = thread_limit(call.threads);
     out = ddt::upscale(image, out_w, out_h, call.options, &stats);
     if (call.compare) {
       const ddt::Image classic = ddt::classic_resize(image, out_w, out_h, *call.compare);
       out = ddt::side_by_side(classic, out, std::max(2, out_w / 256), 0.0f, call.options.alpha_channel);
     }
-    if (call.mesh) write_mesh(call, image);
-  }
+    if (call.mesh && !progress.cancelled()) write_mesh(call, image);
+  });
   if (stats.consistency_skipped && !call.quiet)
     warn("the image was processed in " + std::to_string(stats.tiles) + " tiles, where --model " + call.model +
          " is not applied (plain interpolation, --model point)");
@@ -161,8 +213,9 @@ py::tuple upscale_file(const std::string& input, const std::string& output, cons
   call.options.log = stderr_log(call.verbose);
   int out_w = 0, out_h = 0;
   ddt::UpscaleStats stats;
-  {
-    py::gil_scoped_release release;
+  ddt::Progress progress;
+  call.options.progress = &progress;
+  run_interruptibly(progress, [&] {
     const auto limit = thread_limit(call.threads);
     ddt::ImageFile file;
     try {
@@ -175,12 +228,13 @@ py::tuple upscale_file(const std::string& input, const std::string& output, cons
     ddt::check_image_writable(output, out_w, out_h, file.image.channels, file.format, file.alpha_channel);
     call.options.alpha_channel = file.alpha_channel;
     const ddt::Image out = ddt::upscale(file.image, out_w, out_h, call.options, &stats);
+    progress.begin("write");  // a Ctrl-C during the enlargement writes nothing
     try {
       ddt::write_image(output, out, file.format, file.alpha_channel);
     } catch (const ddt::Error& e) {
       throw std::system_error(std::make_error_code(std::errc::io_error), e.what());
     }
-  }
+  });
   if (stats.consistency_skipped && !call.quiet)
     warn(input + ": the image was processed in " + std::to_string(stats.tiles) + " tiles, where --model " +
          call.model + " is not applied (plain interpolation, --model point)");
@@ -193,11 +247,12 @@ py::array upscale_rows(const py::array& rows, int top, int image_height, int fir
   ImageArray in = image_from_array(rows);
   call.options.log = stderr_log(call.verbose);
   ddt::Image out;
-  {
-    py::gil_scoped_release release;
+  ddt::Progress progress;
+  call.options.progress = &progress;
+  run_interruptibly(progress, [&] {
     const auto limit = thread_limit(call.threads);
     out = ddt::upscale_rows(in.image, top, image_height, first, end, out_width, out_height, call.options);
-  }
+  });
   return array_from_image(out, in.dtype, in.planar);
 }
 

@@ -279,7 +279,7 @@ SparseRows footprint_operator(const Mesh2& mesh, const std::vector<index_t>& own
       for (; next_overflow < scratch.overflow.size() && scratch.overflow[next_overflow].x == x; ++next_overflow) {
         const auto& [ox, col, w] = scratch.overflow[next_overflow];
         auto it = std::find_if(out.begin() + static_cast<std::ptrdiff_t>(begin), out.end(),
-                               [col = col](const Entry& e) { return e.col == col; });  // clang 14: no capture of a binding
+                               [col = col](const Entry& e) { return e.col == col; });  // clang 14: no binding captured
         if (it == out.end()) out.push_back({col, w});
         else it->weight += w;
       }

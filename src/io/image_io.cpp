@@ -8,6 +8,7 @@
 #include <OpenImageIO/filesystem.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <mutex>
@@ -97,6 +98,11 @@ class QuietLibraries {
 // Attributes of an input carried to the output (ImageFile::metadata); the
 // rest describe the file's encoding (compression, planar layout, plugin
 // state) and are the writer's to choose.
+// The windows of ImageFile::metadata: the data window's origin (int[2]) and
+// the display window (int[4]: x, y, width, height).
+constexpr const char* data_origin = "ddtscale:data_origin";
+constexpr const char* display_window = "ddtscale:display_window";
+
 bool carried(const std::string& name) {
   for (const char* exact : {"ICCProfile", "Orientation", "XResolution", "YResolution", "ResolutionUnit", "Artist",
                             "Copyright", "ImageDescription", "DateTime", "Make", "Model", "DocumentName"})
@@ -113,6 +119,18 @@ OIIO::ParamValueList scaled_metadata(const OIIO::ParamValueList& metadata, doubl
   for (const OIIO::ParamValue& p : metadata) {
     const std::string name = p.name().string();
     if (name == "Exif:PixelXDimension" || name == "Exif:PixelYDimension") continue;
+    if ((name == data_origin && p.type() == OIIO::TypeDesc(OIIO::TypeDesc::INT, 2)) ||
+        (name == display_window && p.type() == OIIO::TypeDesc(OIIO::TypeDesc::INT, 4))) {
+      // Window corners land where the enlargement maps them (output pixel X
+      // is input position (X + 0.5) / scale_x), rounded half up to whole pixels.
+      const int* v = static_cast<const int*>(p.data());
+      int scaled[4] = {};
+      for (int k = 0; k < p.type().arraylen; ++k)
+        scaled[k] = static_cast<int>(std::clamp(std::floor(v[k] * (k % 2 == 0 ? scale_x : scale_y) + 0.5), -1e9, 1e9));
+      if (name == display_window) scaled[2] = std::max(1, scaled[2]), scaled[3] = std::max(1, scaled[3]);
+      out.attribute(name, p.type(), scaled);
+      continue;
+    }
     if ((name == "XResolution" || name == "YResolution") && p.type() == OIIO::TypeDesc::FLOAT) {
       const float resolution = p.get_float() * static_cast<float>(name == "XResolution" ? scale_x : scale_y);
       out.attribute(name, resolution);
@@ -160,6 +178,15 @@ ImageFile read_image(const std::string& path, const ImageReadLimits& limits) {
   ImageFile file;
   for (const OIIO::ParamValue& p : spec.extra_attribs)
     if (carried(p.name().string())) file.metadata.push_back(p);
+  // A data window (the pixels read) placed in a display window other than
+  // itself, as EXR stores them: kept for an EXR output.
+  if (spec.x != 0 || spec.y != 0 || spec.full_x != spec.x || spec.full_y != spec.y || spec.full_width != spec.width ||
+      spec.full_height != spec.height) {
+    const int origin[2] = {spec.x, spec.y};
+    const int display[4] = {spec.full_x, spec.full_y, spec.full_width, spec.full_height};
+    file.metadata.attribute(data_origin, OIIO::TypeDesc(OIIO::TypeDesc::INT, 2), origin);
+    file.metadata.attribute(display_window, OIIO::TypeDesc(OIIO::TypeDesc::INT, 4), display);
+  }
   file.format = sample_format_of(spec.format);
   file.alpha_channel = spec.alpha_channel;
   if (spec.alpha_channel >= 0) file.alpha_name = spec.channelnames[spec.alpha_channel];
@@ -302,6 +329,8 @@ void write_image(const std::string& path, const Image& image, SampleFormat sourc
     buf.specmod().attribute("Orientation", turn);
     OIIO::ParamValueList upright = *metadata;
     upright.remove("Orientation");
+    upright.remove(data_origin);  // the windows describe the image as stored
+    upright.remove(display_window);
     write_image(path, image_from_buf(OIIO::ImageBufAlgo::reorient(buf)), source_format, alpha_channel, &upright);
     return;
   }
@@ -325,23 +354,35 @@ void write_image(const std::string& path, const Image& image, SampleFormat sourc
   check_image_writable(path, image.width, image.height, image.channels, source_format, alpha_channel);
   OIIO::ImageSpec spec =
       output_spec(path, image.width, image.height, image.channels, source_format, alpha_channel, *out);
-  // OpenImageIO 2.4's TIFF writer, through an IOProxy (as here), writes a
-  // file without its ImageLength tag when EXIF or GPS tags are given (they go
-  // to a sub-directory): those are left out of TIFF outputs.
+  // OpenImageIO 2.4's TIFF writer, through an IOProxy, writes a file
+  // without its ImageLength tag when EXIF or GPS tags are given (they go to
+  // a sub-directory): such a TIFF is written by path instead, below.
+  bool by_path = !out->supports("ioproxy");
   const bool tiff = std::string(out->format_name()) == "tiff";
   if (metadata)
     for (const OIIO::ParamValue& p : *metadata) {
       const std::string name = p.name().string();
-      if (tiff && (name.rfind("Exif:", 0) == 0 || name.rfind("GPS:", 0) == 0)) continue;
+      if (tiff && (name.rfind("Exif:", 0) == 0 || name.rfind("GPS:", 0) == 0)) by_path = true;
       if (name.rfind("ddtscale:", 0) == 0) continue;
       spec.extra_attribs.add_or_replace(p);
     }
+
+  if (metadata && out->format_name() == std::string("openexr")) {
+    const auto origin = metadata->find(data_origin, OIIO::TypeDesc(OIIO::TypeDesc::INT, 2), false);
+    const auto display = metadata->find(display_window, OIIO::TypeDesc(OIIO::TypeDesc::INT, 4), false);
+    if (origin != metadata->cend() && display != metadata->cend()) {
+      const int* o = static_cast<const int*>(origin->data());
+      const int* d = static_cast<const int*>(display->data());
+      spec.x = o[0], spec.y = o[1];
+      spec.full_x = d[0], spec.full_y = d[1], spec.full_width = d[2], spec.full_height = d[3];
+    }
+  }
 
   StagedOutput stage(path);
   const std::string name = stage.target().filename().string();
   auto fail = [&](const std::string& why) { throw Error("cannot write '" + path + "': " + first_line(why)); };
   const QuietLibraries quiet;
-  if (out->supports("ioproxy")) {
+  if (!by_path) {
     const int file = stage.create(name);
     StagedFileProxy proxy(stage, file, name);
     out->set_ioproxy(&proxy);
@@ -351,8 +392,9 @@ void write_image(const std::string& path, const Image& image, SampleFormat sourc
     out.reset();
     stage.finish(file);  // throws with the first write error (ENOSPC, EFBIG, EIO)
   } else {
-    // The plugin opens the path itself (in the private directory): read the
-    // file back in full, since its write errors may go unseen.
+    // The plugin opens the path itself, in the private directory (mode 0700,
+    // a name nobody could plant a link at): read the file back in full,
+    // since its write errors may go unseen.
     const std::string staged = stage.stage_path(name).string();
     if (!out->open(staged, spec)) fail(out->geterror());
     if (!out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data())) fail(out->geterror());

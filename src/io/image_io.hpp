@@ -31,7 +31,9 @@ struct ImageFile {
   // What the file says beside its pixels that a photographer expects kept:
   // the ICC profile, EXIF (the orientation included: the pixels are read as
   // stored, so the output carries the same tag and displays the same way),
-  // GPS and IPTC tags, resolution, camera, author and copyright.
+  // GPS and IPTC tags, resolution, camera, author and copyright; and a data
+  // window other than the display window (EXR), as "ddtscale:data_origin"
+  // (int[2]) and "ddtscale:display_window" (int[4]: x, y, width, height).
   OIIO::ParamValueList metadata;
   int pages = 1;                           // subimages (TIFF pages, EXR parts); only the first is read
 };
@@ -61,14 +63,15 @@ ImageFile read_image(const std::string& path, const ImageReadLimits& limits = {}
 // as 32-bit float; integer formats keep `source_format`'s depth (8 or 16 bit,
 // float sources become 16 bit), rounded and clamped to 0..1.
 // metadata, when given, is written with the image where the format stores
-// it (ImageFile::metadata, through scaled_metadata).
+// it (ImageFile::metadata, through scaled_metadata; the windows in EXR).
 void write_image(const std::string& path, const Image& image,
                  SampleFormat source_format, int alpha_channel = -1,
                  const OIIO::ParamValueList* metadata = nullptr);
 
 // `metadata` for an image scale_x x scale_y times the size it was read at:
 // the resolution (pixels per unit) scaled so the printed size stays, the
-// EXIF pixel dimensions dropped (the file's own size says it).
+// EXIF pixel dimensions dropped (the file's own size says it), the windows'
+// corners and sizes scaled (rounded to whole pixels).
 OIIO::ParamValueList scaled_metadata(const OIIO::ParamValueList& metadata, double scale_x, double scale_y);
 
 // write_file_atomically(path, bytes), for text outputs such as SVG and CSV,

@@ -12,6 +12,7 @@ double Progress::Snapshot::fraction() const {
 }
 
 void Progress::begin(const std::string& stage, std::int64_t total) {
+  stop_if_cancelled();
   std::lock_guard<std::mutex> lock(mutex_);
   stage_ = stage;
   total_.store(total, std::memory_order_relaxed);

@@ -8,6 +8,13 @@
 // an atomic operation (begin takes a lock): report in batches, not per
 // pixel.
 //
+// Cancelling: cancel() (from any thread, e.g. one that saw Ctrl-C) makes
+// every later begin, add and set throw ddt::Cancelled in the computation's
+// threads, so the computation stops at its next report, unwinding as for
+// any error (TBB carries the exception out of a parallel loop). How soon
+// depends on how often the computation reports (the image pipeline: at
+// each stage, the optimizer's tests, the render's chunks).
+//
 // ProgressBar polls a Progress from a background thread and redraws one
 // line ("optimize [=========>         ] 45%  3.1 s") every `period`, but only
 // once `delay` has passed, so short runs print nothing. stop() (or the
@@ -20,10 +27,17 @@
 #include <cstdint>
 #include <cstdio>
 #include <mutex>
+#include <stdexcept>
 #include <string>
 #include <thread>
 
 namespace ddt {
+
+// Thrown by Progress's reports once it is cancelled; not an Error (the
+// computation did not fail, its caller stopped it).
+struct Cancelled : std::runtime_error {
+  Cancelled() : std::runtime_error("cancelled") {}
+};
 
 class Progress {
  public:
@@ -36,16 +50,30 @@ class Progress {
   };
 
   // Starts stage `stage` with `total` units of work expected (0: unknown).
+  // Each throws Cancelled once cancel() was called.
   void begin(const std::string& stage, std::int64_t total = 0);
-  void add(std::int64_t units) { done_.fetch_add(units, std::memory_order_relaxed); }
-  void set(std::int64_t done) { done_.store(done, std::memory_order_relaxed); }
+  void add(std::int64_t units) {
+    stop_if_cancelled();
+    done_.fetch_add(units, std::memory_order_relaxed);
+  }
+  void set(std::int64_t done) {
+    stop_if_cancelled();
+    done_.store(done, std::memory_order_relaxed);
+  }
   Snapshot snapshot() const;
+
+  void cancel() { cancelled_.store(true, std::memory_order_relaxed); }
+  bool cancelled() const { return cancelled_.load(std::memory_order_relaxed); }
 
  private:
   mutable std::mutex mutex_;
   std::string stage_;
   std::atomic<std::int64_t> done_{0};
   std::atomic<std::int64_t> total_{0};
+  std::atomic<bool> cancelled_{false};
+  void stop_if_cancelled() const {
+    if (cancelled()) throw Cancelled();
+  }
 };
 
 class ProgressBar {

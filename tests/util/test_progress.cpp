@@ -1,4 +1,5 @@
 #include "util/progress.hpp"
+#include "pipeline/upscale.hpp"
 
 #include <doctest/doctest.h>
 
@@ -44,6 +45,34 @@ TEST_CASE("Progress: stages, units from many threads, fraction") {
   p.begin("write");                       // unknown total
   CHECK(p.snapshot().done == 0);
   CHECK(p.snapshot().fraction() == 0);
+}
+
+TEST_CASE("Progress: once cancelled, every report throws Cancelled, and the pipeline stops by it") {
+  Progress progress;
+  progress.begin("work", 10);
+  progress.add(3);
+  CHECK_FALSE(progress.cancelled());
+  progress.cancel();
+  CHECK(progress.cancelled());
+  CHECK_THROWS_AS(progress.add(1), Cancelled);
+  CHECK_THROWS_AS(progress.set(5), Cancelled);
+  CHECK_THROWS_AS(progress.begin("next"), Cancelled);
+  CHECK(progress.snapshot().done == 3);  // nothing counted after the cancel
+  // During the work: cancelled when the triangulation is logged, the
+  // enlargement stops at its next report (the optimizer's stage) by it.
+  Image noise(96, 96, 1);
+  for (std::size_t i = 0; i < noise.pixels.size(); ++i) noise.pixels[i] = float((i * 7919) % 101) / 100.0f;
+  Progress running;
+  UpscaleOptions options;
+  options.progress = &running;
+  std::vector<std::string> logged;
+  options.log = [&](const std::string& line) {
+    logged.push_back(line);
+    if (line.rfind("triangulate", 0) == 0) running.cancel();
+  };
+  CHECK_THROWS_AS(upscale(noise, 960, 960, options), Cancelled);
+  REQUIRE_FALSE(logged.empty());
+  CHECK(logged.back().rfind("triangulate", 0) == 0);  // nothing after it ran to its end
 }
 
 TEST_CASE("ProgressBar: the text of the bar") {
