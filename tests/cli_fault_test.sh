@@ -78,6 +78,17 @@ if [ "$(id -u)" -eq 0 ] && mount -t tmpfs -o size=2m tmpfs "$disk" 2>/dev/null; 
     no_stage_left "full disk, $ext" "$disk"
     rm -f "$disk/keep.$ext"
   done
+  # A TIFF with EXIF is written by path (OpenImageIO's TIFF writer breaks
+  # through an IOProxy with EXIF): libtiff's own write error, then the same.
+  oiiotool "$work/small.png" --attrib Exif:DateTimeOriginal "2020:01:02 03:04:05" -d uint8 -o "$work/small_exif.tif"
+  oiiotool "$work/noise256.png" --attrib Exif:DateTimeOriginal "2020:01:02 03:04:05" -o "$work/noise_exif.tif"
+  "$bin" "$work/small_exif.tif" "$disk/keep.tif" --scale 2 --quiet || bad "full disk: cannot write keep.tif with EXIF"
+  cp "$disk/keep.tif" "$work/keep.tif"
+  run_fail_saying "full disk, tif with EXIF" "space|[Ww]rite error" "$work/noise_exif.tif" "$disk/keep.tif" --scale 8 \
+    --model point --no-optimize --render linear
+  same_file "full disk, tif with EXIF" "$work/keep.tif" "$disk/keep.tif"
+  no_stage_left "full disk, tif with EXIF" "$disk"
+  rm -f "$disk/keep.tif"
   "$bin" volume-field sphere "$disk/keep.nhdr" --size 4 --type uint8 >/dev/null 2>&1 || bad "full disk: no keep.nhdr"
   cp "$disk/keep.nhdr" "$work/keep.nhdr" && cp "$disk/keep.raw" "$work/keep.raw"
   run_fail_saying "full disk, nhdr" "space" volume-field sphere "$disk/keep.nhdr" --size 128 --type float32 \
