@@ -1,4 +1,5 @@
 #include "batch.hpp"
+#include "whole_number.hpp"
 
 #include "util/progress.hpp"
 
@@ -119,7 +120,7 @@ void add_batch_options(CLI::App& app, BatchOptions& batch) {
   app.add_option("--format", batch.format, "with --outdir: the outputs' extension (e.g. exr; default: the input's)");
   app.add_flag("--overwrite", batch.overwrite, "with --outdir: replace existing outputs (default: skip them)");
   app.add_option("--jobs", batch.jobs, "with --outdir: files processed at once (default: one per core)")
-      ->check(CLI::Range(0, 4096));
+      ->check(whole_number(0, 4096));
 }
 
 int run_batch(const std::vector<std::string>& forwarded, const std::vector<std::string>& inputs,

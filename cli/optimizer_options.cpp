@@ -5,6 +5,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <string>
 
 void add_optimizer_options(CLI::App& app, std::string& optimizer, ddt::AnnealOptions& anneal) {
@@ -14,12 +15,25 @@ void add_optimizer_options(CLI::App& app, std::string& optimizer, ddt::AnnealOpt
                  "only together)")
       ->check(CLI::IsMember(ddt::optimizer_names()))
       ->capture_default_str();
+  // A finite number >= 0 (CLI::NonNegativeNumber passes NaN and answers
+  // "inf" with a 309-digit bound).
+  const CLI::Validator non_negative(
+      [](std::string& text) -> std::string {
+        double value = 0;
+        try {
+          value = std::stod(text);
+        } catch (const std::exception&) {
+          return "'" + text + "' is not a number";
+        }
+        return value >= 0 && std::isfinite(value) ? std::string() : "must be a finite number >= 0, got '" + text + "'";
+      },
+      "FLOAT >= 0");
   app.add_option("--seed", anneal.seed, "anneal: seed of the random moves (same seed, same result)")
       ->check(whole_number(0))
       ->capture_default_str();
   app.add_option("--anneal-t0", anneal.initial_temperature,
                  "anneal: initial temperature in cost units; 0 = automatic (see --anneal-accept)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(non_negative)
       ->capture_default_str();
   app.add_option("--anneal-accept", anneal.initial_acceptance,
                  "anneal: automatic T0 accepts the mean uphill flip with this probability")
@@ -45,6 +59,6 @@ void add_optimizer_options(CLI::App& app, std::string& optimizer, ddt::AnnealOpt
       ->capture_default_str();
   app.add_option("--anneal-moves", anneal.moves_per_edge,
                  "anneal: random flip proposals per interior edge at each temperature")
-      ->check(CLI::NonNegativeNumber)
+      ->check(non_negative)
       ->capture_default_str();
 }

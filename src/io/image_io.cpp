@@ -8,8 +8,10 @@
 #include <OpenImageIO/filesystem.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <mutex>
 #include <system_error>
@@ -396,9 +398,19 @@ void write_image(const std::string& path, const Image& image, SampleFormat sourc
     // a name nobody could plant a link at): read the file back in full,
     // since its write errors may go unseen.
     const std::string staged = stage.stage_path(name).string();
-    if (!out->open(staged, spec)) fail(out->geterror());
-    if (!out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data())) fail(out->geterror());
-    if (!out->close()) fail(out->geterror());
+    // libtiff's messages drop the system's reason ("Write error at scanline
+    // 864" on a full disk): it is taken from errno, right after the failure.
+    auto fail_by_path = [&] {
+      const int error = errno;
+      const std::string why = first_line(out->geterror());
+      if (error == ENOSPC || error == EDQUOT || error == EFBIG || error == EIO)
+        fail(std::string(std::strerror(error)) + " (" + why + ")");
+      fail(why);
+    };
+    errno = 0;
+    if (!out->open(staged, spec)) fail_by_path();
+    if (!out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data())) fail_by_path();
+    if (!out->close()) fail_by_path();
     out.reset();
     stage.finish(stage.adopt(name));
     auto in = OIIO::ImageInput::open(staged);
