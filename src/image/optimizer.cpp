@@ -2,6 +2,7 @@
 
 #include "util/chunked_sum.hpp"
 #include "core/local_cost.hpp"
+#include "core/schedule.hpp"
 #include "util/error.hpp"
 #include "util/huge_pages.hpp"
 
@@ -194,15 +195,25 @@ struct ReferenceEvaluator {
   void commit(index_t, index_t, const Scratch&) const {}
 };
 
-// True when the four vertices hold the same value in every channel.
+// The quadrilateral a, b, c, d of the flip diagram (mesh.hpp) around edge
+// e, when e can flip and its four vertices do not hold the same value in
+// every channel (a flat quadrilateral, counted in `flat`, never flips for
+// the fast evaluators' costs).
 template <int KT>
-bool flat_quad(const float* z, int K, index_t a, index_t b, index_t c, index_t d) {
+bool open_quad(const Geometry& geometry, const float* z, int K, index_t e, index_t q[4], long long& flat) {
+  if (!geometry.flippable(e)) return false;
+  const Mesh2& mesh = geometry.mesh;
+  const index_t f = mesh.opp[e];
+  q[0] = mesh.tri[e], q[1] = mesh.tri[f], q[2] = mesh.tri[prev_edge(e)], q[3] = mesh.tri[prev_edge(f)];
   const int n = KT > 0 ? KT : K;
-  const float *za = z + static_cast<std::size_t>(a) * n, *zb = z + static_cast<std::size_t>(b) * n;
-  const float *zc = z + static_cast<std::size_t>(c) * n, *zd = z + static_cast<std::size_t>(d) * n;
-  for (int k = 0; k < n; ++k)
-    if (za[k] != zb[k] || za[k] != zc[k] || za[k] != zd[k]) return false;
-  return true;
+  const float* za = z + static_cast<std::size_t>(q[0]) * n;
+  for (int i = 1; i < 4; ++i) {
+    const float* zi = z + static_cast<std::size_t>(q[i]) * n;
+    for (int k = 0; k < n; ++k)
+      if (za[k] != zi[k]) return true;
+  }
+  ++flat;
+  return false;
 }
 
 // sederberg and sederberg-edge: triangle_field, edge_cost and
@@ -289,13 +300,9 @@ struct SederbergEvaluator {
     return edge(fs, ft);
   }
   bool decide(index_t e, double& gain, long long& flat, Scratch& scratch) const {
-    if (!geometry.flippable(e)) return false;
-    const index_t f = mesh.opp[e];
-    const index_t a = mesh.tri[e], b = mesh.tri[f], c = mesh.tri[prev_edge(e)], d = mesh.tri[prev_edge(f)];
-    if (flat_quad<KT>(z, K, a, b, c, d)) {
-      ++flat;
-      return false;
-    }
+    index_t q[4];
+    if (!open_quad<KT>(geometry, z, K, e, q, flat)) return false;
+    const index_t f = mesh.opp[e], a = q[0], b = q[1], c = q[2], d = q[3];
     const std::vector<double>& C = *cost;
     // edge(t0, t1) + edge(t0, n_bc) + edge(t0, n_ca) + edge(t1, n_ad) + edge(t1, n_db)
     const double before = C[e] + C[next_edge(e)] + C[prev_edge(e)] + C[next_edge(f)] + C[prev_edge(f)];
@@ -364,13 +371,9 @@ struct VarianceEvaluator {
   struct Scratch {};
   void commit(index_t, index_t, const Scratch&) const {}
   bool decide(index_t e, double& gain, long long& flat, Scratch&) const {
-    if (!geometry.flippable(e)) return false;
-    const index_t f = mesh.opp[e];
-    const index_t a = mesh.tri[e], b = mesh.tri[f], c = mesh.tri[prev_edge(e)], d = mesh.tri[prev_edge(f)];
-    if (flat_quad<KT>(z, K, a, b, c, d)) {
-      ++flat;
-      return false;
-    }
+    index_t q[4];
+    if (!open_quad<KT>(geometry, z, K, e, q, flat)) return false;
+    const index_t a = q[0], b = q[1], c = q[2], d = q[3];
     const double before = triangle(a, b, c) + triangle(b, a, d);
     const double after = triangle(d, c, a) + triangle(c, d, b);
     return accept(before, after, tolerance, gain);
@@ -486,30 +489,23 @@ void run_region(Run& run, const Evaluator& evaluator, const Region& region, bool
     for (index_t e = 3 * region.first; e < 3 * region.last && !any; ++e) any = flags[e] & queued_initially;
     if (!any) scan = false;
   }
-  while ((scan || !active.empty()) && result.iterations < run.options.max_iterations) {
-    ++result.iterations;
-    long long flips_now = 0;
-    if (scan) {
-      for (index_t e = 3 * region.first; e < 3 * region.last; ++e) {
-        if (!(flags[e] & queued_initially)) continue;
-        flags[e] = 0;
-        flips_now += test(e);
-      }
-      scan = false;
-    } else {
-      for (index_t e : active) {
-        flags[e] = 0;
-        flips_now += test(e);
-      }
+  auto scan_initial = [&](long long& flips) {
+    for (index_t e = 3 * region.first; e < 3 * region.last; ++e) {
+      if (!(flags[e] & queued_initially)) continue;
+      flags[e] = 0;
+      flips += test(e);
     }
-    result.flips += flips_now;
-    active.swap(candidate);
-    candidate.clear();
-    on_iteration(result.iterations, flips_now, result.gains);
-    if (flips_now == 0) break;
-  }
-  for (index_t e : active) flags[e] = 0;  // left over at max_iterations: dropped, as in one region
-  if (scan)
+  };
+  core::lawson_iterations(
+      scan, std::move(active), candidate, run.options.max_iterations, result.iterations, result.flips,
+      [] { return 0LL; }, scan_initial,
+      [&](index_t e, long long& flips) {
+        flags[e] = 0;
+        flips += test(e);
+      },
+      [&](index_t e) { flags[e] = 0; },
+      [&](int iteration, long long flips) { on_iteration(iteration, flips, result.gains); });
+  if (scan && result.iterations == 0)  // the scan never ran (max_iterations <= 0)
     for (index_t e = 3 * region.first; e < 3 * region.last; ++e) flags[e] &= static_cast<std::uint8_t>(~queued_initially);
   run.report_tests(unreported);
 }
@@ -553,15 +549,9 @@ void optimize_with(Run& run, const Evaluator& evaluator, LawsonStats& stats) {
 
   auto no_report = [](int, long long, double) {};
   std::vector<index_t> list;  // edges queued for the next phase, in a fixed order
-  long long flips_last = -1, flips_before_last = -1;
-  const int max_phases = 64;
-  for (int phase = 0; phase == 0 || !list.empty(); ++phase) {
-    if (phase >= options.max_iterations) break;
-    // Even phases: regions [k size, (k+1) size); odd phases: shifted by
-    // half a region. One region for what is left once both partitions made
-    // no flip in a row (those edges are deferred by both), or after
-    // max_phases.
-    const bool single = phase >= 2 && ((flips_last == 0 && flips_before_last == 0) || phase >= max_phases);
+  // Even phases: regions [k size, (k+1) size); odd phases: shifted by half
+  // a region; `single`: one region for what is left (core/schedule.hpp).
+  auto run_phase = [&](int phase, bool single) {
     const long long shift = phase % 2 == 1 ? size / 2 : 0;
     const long long boundary = ((options.region_origin + shift) % size + size) % size;  // first boundary >= 0
     const long long start = boundary == 0 ? 0 : boundary - size;
@@ -590,9 +580,9 @@ void optimize_with(Run& run, const Evaluator& evaluator, LawsonStats& stats) {
     stats.flips += flips_now;
     stats.iterations = phase + 1;
     if (options.on_iteration) options.on_iteration(phase + 1, flips_now, cost_now);
-    flips_before_last = flips_last;
-    flips_last = flips_now;
-  }
+    return flips_now;
+  };
+  core::run_region_phases(options.max_iterations, run_phase, [&] { return !list.empty(); });
 }
 
 }  // namespace
