@@ -1,16 +1,13 @@
 #include "image/mesh.hpp"
 
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include "core/predicates.hpp"
 
 #include <sstream>
 
 namespace ddt {
 
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-
 int orientation(const Point2& p, const Point2& q, const Point2& r) {
-  return static_cast<int>(CGAL::orientation(Kernel::Point_2(p.x, p.y), Kernel::Point_2(q.x, q.y),
-                                            Kernel::Point_2(r.x, r.y)));
+  return core::orient<2>({core::Vec<2>{p.x, p.y}, {q.x, q.y}, {r.x, r.y}});
 }
 
 bool is_flippable(const Mesh2& mesh, index_t e) {

@@ -2,6 +2,7 @@
 
 #include "util/chunked_sum.hpp"
 #include "core/local_cost.hpp"
+#include "core/predicates.hpp"
 #include "core/schedule.hpp"
 #include "util/error.hpp"
 #include "util/huge_pages.hpp"
@@ -137,17 +138,10 @@ double triangle_cost(const Mesh2& mesh, const std::vector<float>& values, int K,
 // same predicates (exact) and, for the built-in costs, the same floating-
 // point operations in the same order, only without the indirections.
 
-// Orientation of three mesh vertices, exact. When every coordinate is a
-// multiple of 2^-8 below 2^17 in magnitude (pixel centres are, up to
-// 131072 pixels), the plain double determinant is exact: differences are
-// multiples of 2^-8 below 2^18 (26 bits), products multiples of 2^-16 below
-// 2^36 (52 bits), their difference a multiple of 2^-16 below 2^37 (53 bits).
-// Otherwise CGAL's filtered exact predicate.
+// Orientation of three mesh vertices, exact: a plain determinant when the
+// points satisfy core::lattice_exact (pixel centres do), else CGAL's.
 bool plain_arithmetic_is_exact(const std::vector<Point2>& points) {
-  for (const Point2& p : points)
-    for (double c : {p.x, p.y})
-      if (!(std::abs(c) < 131072.0) || c * 256.0 != std::floor(c * 256.0)) return false;
-  return true;
+  return core::lattice_exact<2>(points, [](const Point2& p, int k) { return k == 0 ? p.x : p.y; });
 }
 
 struct Geometry {
@@ -156,9 +150,7 @@ struct Geometry {
 
   int orient(index_t i, index_t j, index_t k) const {
     const Point2 &p = mesh.points[i], &q = mesh.points[j], &r = mesh.points[k];
-    if (!plain_is_exact) return orientation(p, q, r);
-    const double d = (q.x - p.x) * (r.y - p.y) - (q.y - p.y) * (r.x - p.x);
-    return (d > 0) - (d < 0);
+    return core::orient<2>({core::Vec<2>{p.x, p.y}, {q.x, q.y}, {r.x, r.y}}, plain_is_exact);
   }
   // is_flippable (mesh.cpp) with the predicate above.
   bool flippable(index_t e) const {

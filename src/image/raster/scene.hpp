@@ -4,6 +4,7 @@
 // exact-arithmetic helpers every part shares. Used by image/rasterizer.cpp
 // and the files of image/raster/ only.
 
+#include "core/predicates.hpp"
 #include "image/mesh.hpp"
 #include "image/rasterizer.hpp"
 
@@ -17,14 +18,12 @@ namespace ddt::raster {
 
 constexpr int max_channels = 16;
 
-// Side of p relative to the directed line u->v with the exact predicate and
-// the (eps, eps^2) perturbation of p on ties: +1 left, -1 right, never 0.
-// Antisymmetric in (u, v), so two triangles sharing an edge never both own
-// a point on it.
+// Side of p relative to the directed line u->v on a tie (p on the line):
+// core::perturbed_tie, p moved by (eps, eps^2): +1 left, -1 right, never 0
+// for u != v. Antisymmetric in (u, v), so two triangles sharing an edge
+// never both own a point on it.
 inline int tie_side(const Point2& u, const Point2& v) {
-  // d/dx of the orientation determinant is (u.y - v.y), d/dy is (v.x - u.x).
-  if (u.y != v.y) return u.y > v.y ? 1 : -1;
-  return v.x > u.x ? 1 : -1;
+  return core::perturbed_tie<2>({core::Vec<2>{u.x, u.y}, core::Vec<2>{v.x, v.y}});
 }
 
 // The surface to draw: the mesh's triangles, then the rim's (slabs and
@@ -108,10 +107,9 @@ inline int ceil_int(double v) {
 // vertices, in pixels, can exceed the int range).
 inline double clamp_pixels(double v) { return std::clamp(v, -1e9, 1e9); }
 
-inline bool exact_coordinate(double c) {
-  // |c * 1024| < 2^25: the conversion is exact when c * 1024 is an integer.
-  return std::abs(c) < 32768.0 && c * 1024.0 == static_cast<double>(static_cast<long long>(c * 1024.0));
-}
+// Exactness of the edge functions (see Scene::mesh_exact): the lattice of
+// multiples of 2^-10 below 2^15.
+inline bool exact_coordinate(double c) { return core::on_lattice(c, 10, 32768.0); }
 
 // Adds the slabs and corner fans that extend the hull's values outward
 // (raster/rim.cpp). Precondition: scene.hull set.
