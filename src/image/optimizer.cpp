@@ -305,18 +305,14 @@ struct SederbergEvaluator {
     // edge(t0n, t1n) + edge(t1n, n_bc) + edge(t0n, n_ca) + edge(t0n, n_ad) + edge(t1n, n_db)
     double after = term[0] = edge(t0n, t1n);
     if (!accept(before, after, tolerance, gain)) return false;
-    across(next_edge(e), n);
-    after += term[1] = edge(t1n, n);
-    if (!accept(before, after, tolerance, gain)) return false;
-    across(prev_edge(e), n);
-    after += term[2] = edge(t0n, n);
-    if (!accept(before, after, tolerance, gain)) return false;
-    across(next_edge(f), n);
-    after += term[3] = edge(t0n, n);
-    if (!accept(before, after, tolerance, gain)) return false;
-    across(prev_edge(f), n);
-    after += term[4] = edge(t1n, n);
-    return accept(before, after, tolerance, gain);
+    const index_t outer[4] = {next_edge(e), prev_edge(e), next_edge(f), prev_edge(f)};  // bc, ca, ad, db
+    const Field* inner[4] = {&t1n, &t0n, &t0n, &t1n};
+    for (int i = 0; i < 4; ++i) {
+      across(outer[i], n);
+      after += term[i + 1] = edge(*inner[i], n);
+      if (!accept(before, after, tolerance, gain)) return false;
+    }
+    return true;
   }
   // After flip_edge(mesh, e): stores the new terms. The slots of the flip
   // diagram now hold e = d->c, next(e) = c->a, prev(e) = a->d,
