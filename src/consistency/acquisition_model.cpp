@@ -1,6 +1,7 @@
 #include "consistency/acquisition_model.hpp"
 
 #include "util/error.hpp"
+#include "util/huge_pages.hpp"
 #include "eval/matlab_resize.hpp"
 
 #include <tbb/parallel_for.h>
@@ -142,30 +143,56 @@ std::vector<std::vector<std::pair<int, double>>> by_input_pixel(const AxisWeight
   return by;
 }
 
-Image apply_acquisition(const AcquisitionModel& model, const Image& out, int in_width, int in_height) {
-  const AxisWeights wx = axis_weights(model, in_width, out.width);
-  const AxisWeights wy = axis_weights(model, in_height, out.height);
+Acquisition::Acquisition(const AcquisitionModel& model, int in_width, int in_height, int out_width, int out_height)
+    : in_width_(in_width),
+      in_height_(in_height),
+      out_width_(out_width),
+      out_height_(out_height),
+      wx_(axis_weights(model, in_width, out_width)),
+      by_row_(by_input_pixel(axis_weights(model, in_height, out_height), in_height)) {}
+
+std::pair<int, int> Acquisition::rows_read(int first, int end) const {
+  int lo = out_height_, hi = 0;
+  for (int jy = std::max(0, first); jy < std::min(end, in_height_); ++jy)
+    for (const auto& e : by_row_[jy]) lo = std::min(lo, e.first), hi = std::max(hi, e.first + 1);
+  return {std::min(lo, hi), hi};
+}
+
+void Acquisition::apply(const Image& out, int out_origin, int first, int end, std::vector<double>& in) const {
   const int C = out.channels;
-  const auto by_row = by_input_pixel(wy, in_height);  // input row -> (output row, weight)
+  if (first < 0 || end > in_height_ || first > end || out.width != out_width_)
+    throw Error("acquisition: rows or image of another grid");
+  const auto [lo, hi] = rows_read(first, end);
+  if (lo < hi && (lo < out_origin || hi > out_origin + out.height))
+    throw Error("acquisition: the output rows do not cover the input rows");
+  const std::size_t row_size = static_cast<std::size_t>(in_width_) * C;
+  // Fresh pages of a large buffer are cheap only when huge.
+  if (in.capacity() < row_size * (end - first)) assign_huge(in, row_size * (end - first), 0.0);
+  else in.assign(row_size * (end - first), 0.0);
   // Each input row from its output rows, one row of sums at a time (memory
   // of one input row per thread, not of an intermediate image).
-  Image in(in_width, in_height, C);
-  tbb::parallel_for(0, in_height, [&](int jy) {
-    std::vector<double> acc(static_cast<std::size_t>(in_width) * C, 0.0), row(acc.size());
-    for (const auto& [Y, wrow] : by_row[jy]) {
+  tbb::parallel_for(first, end, [&](int jy) {
+    double* acc = &in[row_size * (jy - first)];
+    std::vector<double> row(row_size);
+    for (const auto& [Y, wrow] : by_row_[jy]) {
       std::fill(row.begin(), row.end(), 0.0);
       for (int X = 0; X < out.width; ++X) {
-        const float* p = &out.pixels[out.index(X, Y)];
-        for (int k = wx.first[X]; k < wx.first[X + 1]; ++k) {
-          double* q = &row[static_cast<std::size_t>(wx.pixel[k]) * C];
-          for (int c = 0; c < C; ++c) q[c] += wx.weight[k] * p[c];
+        const float* p = &out.pixels[out.index(X, Y - out_origin)];
+        for (int k = wx_.first[X]; k < wx_.first[X + 1]; ++k) {
+          double* q = &row[static_cast<std::size_t>(wx_.pixel[k]) * C];
+          for (int c = 0; c < C; ++c) q[c] += wx_.weight[k] * p[c];
         }
       }
-      for (std::size_t i = 0; i < acc.size(); ++i) acc[i] += wrow * row[i];
+      for (std::size_t i = 0; i < row_size; ++i) acc[i] += wrow * row[i];
     }
-    std::transform(acc.begin(), acc.end(), in.pixels.begin() + static_cast<std::ptrdiff_t>(in.index(0, jy)),
-                   [](double v) { return static_cast<float>(v); });
   });
+}
+
+Image apply_acquisition(const AcquisitionModel& model, const Image& out, int in_width, int in_height) {
+  std::vector<double> values;
+  Acquisition(model, in_width, in_height, out.width, out.height).apply(out, 0, 0, in_height, values);
+  Image in(in_width, in_height, out.channels);
+  std::transform(values.begin(), values.end(), in.pixels.begin(), [](double v) { return static_cast<float>(v); });
   return in;
 }
 

@@ -60,4 +60,27 @@ std::vector<std::vector<std::pair<int, double>>> by_input_pixel(const AxisWeight
 // out.channels, pixel j = sum over X, Y of wy(j_y, Y) wx(j_x, X) out(X, Y).
 Image apply_acquisition(const AcquisitionModel& model, const Image& out, int in_width, int in_height);
 
+// The same map with its axis weights computed once, in double, for a range
+// of input rows (bands of rows read only the output rows they need).
+class Acquisition {
+ public:
+  // Inputs: model not point; the input and output grids, each >= 1 x 1.
+  Acquisition(const AcquisitionModel& model, int in_width, int in_height, int out_width, int out_height);
+
+  // Input rows [first, end) (in_width * C values a row, interleaved, into
+  // `in`, resized) from `out`, which holds output rows
+  // [out_origin, out_origin + out.height) of the output grid, out_width
+  // wide. Errors: throws ddt::Error when `out` lacks a row they read
+  // (rows_read).
+  void apply(const Image& out, int out_origin, int first, int end, std::vector<double>& in) const;
+
+  // The output rows input rows [first, end) read: [first, end) of the result.
+  std::pair<int, int> rows_read(int first, int end) const;
+
+ private:
+  int in_width_, in_height_, out_width_, out_height_;
+  AxisWeights wx_;
+  std::vector<std::vector<std::pair<int, double>>> by_row_;  // input row -> (output row, weight)
+};
+
 }  // namespace ddt

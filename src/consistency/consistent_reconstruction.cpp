@@ -1,10 +1,13 @@
 #include "consistency/consistent_reconstruction.hpp"
 
 #include "util/error.hpp"
-#include "consistency/footprint_operator.hpp"
+#include "util/huge_pages.hpp"
 #include "consistency/grid_surface.hpp"
 #include "consistency/halo_limit.hpp"
 #include "consistency/step_edges.hpp"
+#include "image/rasterizer.hpp"
+
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <chrono>
@@ -25,41 +28,23 @@ double max_abs(const std::vector<double>& a) {
   return m;
 }
 
-// src - acquire(out): what the output still fails to reproduce.
-std::vector<double> residual_of(const AcquisitionModel& model, const Image& out, const Image& src) {
-  const Image predicted = apply_acquisition(model, out, src.width, src.height);
-  std::vector<double> r(src.pixels.size());
-  for (std::size_t i = 0; i < r.size(); ++i) r[i] = double(src.pixels[i]) - predicted.pixels[i];
-  return r;
-}
-
 double norm2(const std::vector<double>& a) {
   double m = 0;
   for (double v : a) m += v * v;
   return m;
 }
 
-// Back-projection x += b - A x from x = 0 while the residual's 2-norm falls
-// by at least `min_gain` per step, at most `steps` steps. Returns b - A x.
-std::vector<double> back_project(const SparseRows& A, const std::vector<double>& b, std::vector<double>& x, int C,
-                                 int steps, double min_gain, int* done) {
-  x.assign(b.size(), 0.0);
-  std::vector<double> r = b, ax, best_x = x, best_r = r;
-  double best = norm2(r);
-  *done = 0;
-  for (int k = 0; k < steps; ++k) {
-    for (std::size_t i = 0; i < x.size(); ++i) x[i] += r[i];
-    A.multiply(x, ax, C);
-    for (std::size_t i = 0; i < x.size(); ++i) r[i] = b[i] - ax[i];
-    const double now = norm2(r);
-    if (!(now < best * (1 - min_gain))) break;
-    best = now;
-    best_x = x;
-    best_r = r;
-    *done = k + 1;
-  }
-  x = best_x;
-  return best_r;
+// src - acquisition: what the output still fails to reproduce.
+void subtract_from(const Image& src, std::vector<double>& acquired) {
+  for (std::size_t i = 0; i < acquired.size(); ++i) acquired[i] = double(src.pixels[i]) - acquired[i];
+}
+
+void add_image(Image& out, const Image& add) {
+  tbb::parallel_for(0, out.height, [&](int Y) {
+    float* o = &out.pixels[out.index(0, Y)];
+    const float* a = &add.pixels[add.index(0, Y)];
+    for (std::size_t i = 0, n = static_cast<std::size_t>(out.width) * out.channels; i < n; ++i) o[i] += a[i];
+  });
 }
 
 }  // namespace
@@ -69,33 +54,59 @@ void make_consistent(Image& out, const Mesh2& mesh, const Image& src, const Cons
   if (options.model.kind == AcquisitionModel::Kind::point) return;
   const int W = src.width, H = src.height, C = src.channels;
   if (C > max_channels) throw Error("the consistent reconstruction takes at most 16 channels");
+  if (mesh.points.size() != static_cast<std::size_t>(W) * H)
+    throw Error("the consistent reconstruction: the mesh is not the pixel grid");
   ConsistencyStats local;
 
   auto t0 = std::chrono::steady_clock::now();
-  const std::vector<index_t> owners = pixel_owners(mesh, W, H, out.width, out.height);
-  const SparseRows A = footprint_operator(mesh, owners, W, H, out.width, out.height, options.model);
+  const Acquisition acquisition(options.model, W, H, out.width, out.height);
   const GridSurface grid(W, H, out.width, out.height, options.model);
-  local.nonzeros = static_cast<long long>(A.col.size());
   local.seconds_operator = seconds_since(t0);
 
   t0 = std::chrono::steady_clock::now();
-  const std::vector<double> residual = residual_of(options.model, out, src);
+  std::vector<double> residual, acquired;
+  acquisition.apply(out, 0, 0, H, residual);
+  subtract_from(src, residual);
   local.residual_before = max_abs(residual);
-  std::vector<double> delta_mesh, delta_grid;
-  const std::vector<double> rest =
-      back_project(A, residual, delta_mesh, C, options.mesh_steps, 0.01, &local.mesh_steps);
-  local.residual_mesh = max_abs(rest);
-  grid.solve(rest, delta_grid, C);
+  // Back-projection on the mesh: x += r - A x, with A v = acquire(linear
+  // render of v on the mesh); the rasterizer draws each step's surface
+  // (exact ownership, fast on lattice meshes) and the step is added as
+  // drawn, so its acquisition is exactly what leaves the residual.
+  if (options.mesh_steps > 0) {
+    RenderGrid surface;
+    surface.width = out.width;
+    surface.height = out.height;
+    surface.scale_x = static_cast<double>(out.width) / W;
+    surface.scale_y = static_cast<double>(out.height) / H;
+    Image step(out.width, out.height, C);
+    std::vector<float> values;
+    assign_huge(values, residual.size(), 0.0f);
+    double norm = norm2(residual);
+    for (int k = 0; k < options.mesh_steps; ++k) {
+      std::transform(residual.begin(), residual.end(), values.begin(), [](double v) { return static_cast<float>(v); });
+      render_mesh_into(step, 0, mesh, values, C, surface);
+      acquisition.apply(step, 0, 0, H, acquired);
+      for (std::size_t i = 0; i < acquired.size(); ++i) acquired[i] = residual[i] - acquired[i];
+      const double now = norm2(acquired);
+      // Kept while it lowers the residual's 2-norm by 1 % or more.
+      if (!(now < norm * (1 - 0.01))) break;
+      add_image(out, step);
+      residual.swap(acquired);
+      norm = now;
+      ++local.mesh_steps;
+    }
+  }
+  local.residual_mesh = max_abs(residual);
+  std::vector<double> delta_grid;
+  grid.solve(residual, delta_grid, C);
   {
-    std::vector<double> acquired;
     grid.acquire(delta_grid, acquired, C);
     for (std::size_t i = 0; i < acquired.size(); ++i)
-      local.residual_after = std::max(local.residual_after, std::abs(rest[i] - acquired[i]));
+      local.residual_after = std::max(local.residual_after, std::abs(residual[i] - acquired[i]));
   }
   local.seconds_solve = seconds_since(t0);
 
   t0 = std::chrono::steady_clock::now();
-  add_linear_surface(out, mesh, owners, W, H, delta_mesh);
   grid.add_to(out, delta_grid);
   // Under the box model a footprint crossed by one straight edge shows
   // where the edge passes inside it: drawn as that edge (step_edges.hpp).
@@ -108,10 +119,12 @@ void make_consistent(Image& out, const Mesh2& mesh, const Image& src, const Cons
   const bool kept_exactly =
       options.model.kind == AcquisitionModel::Kind::box && out.width % W == 0 && out.height % H == 0;
   if (!kept_exactly && local.halo_footprints + local.step_edge_footprints > 0) {
-    const std::vector<double> rest_after = residual_of(options.model, out, src);
-    if (max_abs(rest_after) > 10 * options.tolerance) {
+    std::vector<double> rest;
+    acquisition.apply(out, 0, 0, H, rest);
+    subtract_from(src, rest);
+    if (max_abs(rest) > 10 * options.tolerance) {
       std::vector<double> delta;
-      grid.solve(rest_after, delta, C);
+      grid.solve(rest, delta, C);
       grid.add_to(out, delta);
       ++local.halo_passes;
     }

@@ -6,7 +6,8 @@
 // The rendered surface O0 (cubic or linear, on the optimized mesh) is
 // corrected in two parts, both solved at input resolution:
 //   1. on the data-dependent mesh: a few back-projection steps
-//      delta1 += r - A delta1 (A = footprint_operator(mesh)), kept while they
+//      delta1 += r - A delta1 (A v: the acquisition of the linear render of
+//      vertex values v on the mesh, applied by rendering), kept while they
 //      lower the residual. The correction follows the edges the flips
 //      found instead of ringing across them; but a mesh with long thin
 //      triangles makes A ill-conditioned (a vertex of thin triangles has
@@ -53,7 +54,6 @@ struct ConsistencyStats {
   double residual_mesh = 0;     // max residual after the mesh steps
   double residual_before = 0;   // max |src - acquire(O0)| over pixels and channels
   double residual_after = 0;    // the same for the solved delta, at input resolution
-  long long nonzeros = 0;       // of A
   long long halo_footprints = 0;  // footprints and channels whose overshoot was limited
   long long step_edge_footprints = 0;  // footprints drawn as one straight edge
   int halo_passes = 0;            // 1 when limiting needed a final grid correction

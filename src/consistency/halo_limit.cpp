@@ -73,43 +73,60 @@ double mean_keeping_shift(const std::vector<float>& o, double mean, double lo, d
 
 long long limit_halos(Image& out, const Image& src) {
   const FootprintPixels f = footprint_pixels(src.width, src.height, out.width, out.height);
-  std::vector<float> image_min(src.channels, INFINITY), image_max(src.channels, -INFINITY);
+  const int C = src.channels;
+  std::vector<float> image_min(C, INFINITY), image_max(C, -INFINITY);
   for (std::size_t i = 0; i < src.pixels.size(); ++i) {
-    image_min[i % src.channels] = std::min(image_min[i % src.channels], src.pixels[i]);
-    image_max[i % src.channels] = std::max(image_max[i % src.channels], src.pixels[i]);
+    image_min[i % C] = std::min(image_min[i % C], src.pixels[i]);
+    image_max[i % C] = std::max(image_max[i % C], src.pixels[i]);
   }
   std::atomic<long long> limited{0};
   tbb::parallel_for(0, src.height, [&](int y) {
-    std::vector<float> o;
-    for (int x = 0; x < src.width; ++x)
-      for (int c = 0; c < src.channels; ++c) {
-        o.clear();
-        for (int Y = f.first_y[y]; Y < f.first_y[y + 1]; ++Y)
-          for (int X = f.first_x[x]; X < f.first_x[x + 1]; ++X) o.push_back(out.at(X, Y, c));
-        if (o.empty()) continue;
-        const auto [omin, omax] = std::minmax_element(o.begin(), o.end());
+    // A footprint's pixels of every channel are gathered in one pass
+    // (channel-major), its 3x3 ranges found in another.
+    std::vector<float> all, o;
+    std::vector<float> lo3(C), hi3(C);
+    long long count = 0;
+    const int y0 = std::max(0, y - 1), y1 = std::min(src.height - 1, y + 1);
+    for (int x = 0; x < src.width; ++x) {
+      const int X0 = f.first_x[x], X1 = f.first_x[x + 1], Y0 = f.first_y[y], Y1 = f.first_y[y + 1];
+      const std::size_t n = static_cast<std::size_t>(X1 - X0) * (Y1 - Y0);
+      if (n == 0) continue;
+      all.resize(n * C);
+      std::size_t i = 0;
+      for (int Y = Y0; Y < Y1; ++Y)
+        for (int X = X0; X < X1; ++X, ++i) {
+          const float* p = &out.pixels[out.index(X, Y)];
+          for (int c = 0; c < C; ++c) all[c * n + i] = p[c];
+        }
+      for (int c = 0; c < C; ++c) lo3[c] = hi3[c] = src.at(x, y, c);
+      for (int ny = y0; ny <= y1; ++ny)
+        for (int nx = std::max(0, x - 1); nx <= std::min(src.width - 1, x + 1); ++nx) {
+          const float* p = &src.pixels[src.index(nx, ny)];
+          for (int c = 0; c < C; ++c) lo3[c] = std::min(lo3[c], p[c]), hi3[c] = std::max(hi3[c], p[c]);
+        }
+      for (int c = 0; c < C; ++c) {
+        const float* values = &all[c * n];
+        const auto [omin, omax] = std::minmax_element(values, values + n);
         // The bounds contain the 3x3 range: most footprints stay inside it.
-        float lo3 = src.at(x, y, c), hi3 = lo3;
-        for (int ny = std::max(0, y - 1); ny <= std::min(src.height - 1, y + 1); ++ny)
-          for (int nx = std::max(0, x - 1); nx <= std::min(src.width - 1, x + 1); ++nx)
-            lo3 = std::min(lo3, src.at(nx, ny, c)), hi3 = std::max(hi3, src.at(nx, ny, c));
-        if (*omin >= lo3 && *omax <= hi3) continue;
+        if (*omin >= lo3[c] && *omax <= hi3[c]) continue;
         const auto [lo, hi] = halo_bounds(src, x, y, c, image_min[c], image_max[c]);
         if (*omin >= lo && *omax <= hi) continue;
         double mean = 0;
-        for (float v : o) mean += v;
-        mean /= o.size();
+        for (std::size_t k = 0; k < n; ++k) mean += values[k];
+        mean /= n;
         // The mean is the input pixel, inside [lo, hi] up to the solver's
         // tolerance; a mean on a bound leaves one answer, the flat bound.
         if (!(mean >= lo - 1e-5 && mean <= hi + 1e-5)) continue;  // cannot hold: keep the consistent values
+        o.assign(values, values + n);
         const double t = mean_keeping_shift(o, std::clamp(mean, double(lo), double(hi)), lo, hi);
-        for (int Y = f.first_y[y]; Y < f.first_y[y + 1]; ++Y)
-          for (int X = f.first_x[x]; X < f.first_x[x + 1]; ++X) {
-            float& v = out.at(X, Y, c);
-            v = static_cast<float>(std::clamp(v + t, double(lo), double(hi)));
-          }
-        ++limited;
+        std::size_t k = 0;
+        for (int Y = Y0; Y < Y1; ++Y)
+          for (int X = X0; X < X1; ++X, ++k)
+            out.at(X, Y, c) = static_cast<float>(std::clamp(o[k] + t, double(lo), double(hi)));
+        ++count;
       }
+    }
+    limited += count;
   });
   return limited;
 }

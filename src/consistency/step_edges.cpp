@@ -127,18 +127,19 @@ EdgeFit fit_edge(const Window& w, int main, double lo, double hi, double reject_
   const int n = window * w.C;
   double lambda = 1e-3;
   for (int it = 0; it < 30 && f > 1e-14; ++it) {
-    // Jacobian by central differences: the misfit is piecewise smooth.
+    // Jacobian by forward differences from the residuals at x: the misfit
+    // is piecewise smooth, and an error of O(h) in J only slows the steps
+    // (each is kept only where it lowers the misfit).
     std::array<Residuals, 2> J{};
-    const double h[2] = {1e-5, 1e-5};
+    constexpr double h = 1e-6;
     bool ok = true;
     for (int j = 0; j < 2 && ok; ++j) {
-      std::array<double, 2> xp = x, xm = x;
-      xp[j] += h[j];
-      xm[j] -= h[j];
-      Residuals rp{}, rm{};
+      std::array<double, 2> xp = x;
+      xp[j] += h;
+      Residuals rp{};
       EdgeFit scratch;
-      ok = std::isfinite(evaluate(w, xp[0], xp[1], scratch, rp)) && std::isfinite(evaluate(w, xm[0], xm[1], scratch, rm));
-      for (int i = 0; i < n; ++i) J[j][i] = (rp[i] - rm[i]) / (2 * h[j]);
+      ok = std::isfinite(evaluate(w, xp[0], xp[1], scratch, rp));
+      for (int i = 0; i < n; ++i) J[j][i] = (rp[i] - r[i]) / h;
     }
     if (!ok) break;
     double a00 = 0, a01 = 0, a11 = 0, g0 = 0, g1 = 0;
@@ -149,7 +150,7 @@ EdgeFit fit_edge(const Window& w, int main, double lo, double hi, double reject_
       g0 += J[0][i] * r[i];
       g1 += J[1][i] * r[i];
     }
-    bool improved = false;
+    bool improved = false, converged = false;
     for (int tries = 0; tries < 8 && !improved; ++tries) {
       const double d00 = a00 * (1 + lambda) + 1e-12, d11 = a11 * (1 + lambda) + 1e-12;
       const double det = d00 * d11 - a01 * a01;
@@ -158,6 +159,9 @@ EdgeFit fit_edge(const Window& w, int main, double lo, double hi, double reject_
       EdgeFit trial;
       const double f1 = evaluate(w, x[0] + step[0], x[1] + step[1], trial, r1);
       if (f1 < f) {
+        // A step below 1e-9 (radians, input pixels) moves no drawn value
+        // by a float's rounding: converged.
+        converged = std::abs(step[0]) < 1e-9 && std::abs(step[1]) < 1e-9;
         fit = trial;
         x = {x[0] + step[0], x[1] + step[1]};
         f = f1;
@@ -168,7 +172,7 @@ EdgeFit fit_edge(const Window& w, int main, double lo, double hi, double reject_
         lambda *= 10;
       }
     }
-    if (!improved) break;
+    if (!improved || converged) break;
   }
   return fit;
 }

@@ -187,10 +187,10 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
     char line[320];
     std::snprintf(line, sizeof line,
                   "consistency (%s): residual %.3g, %.3g after %d steps on the mesh, %.3g after the grid solve; "
-                  "%lld nonzeros; %lld step-edge footprints, %lld halo-limited; operators %.3f s, solve %.3f s, "
+                  "%lld step-edge footprints, %lld halo-limited; operators %.3f s, solve %.3f s, "
                   "render %.3f s",
                   to_string(options.model).c_str(), cs.residual_before, cs.residual_mesh, cs.mesh_steps,
-                  cs.residual_after, cs.nonzeros, cs.step_edge_footprints, cs.halo_footprints,
+                  cs.residual_after, cs.step_edge_footprints, cs.halo_footprints,
                   cs.seconds_operator, cs.seconds_solve, cs.seconds_render);
     log(line);
   }

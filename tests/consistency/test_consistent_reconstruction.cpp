@@ -1,16 +1,10 @@
-// The acquisition models, the footprint operator and the consistent
-// reconstruction (acquisition_model.hpp, footprint_operator.hpp,
-// consistent_reconstruction.hpp).
+// The acquisition models and the consistent reconstruction
+// (acquisition_model.hpp, consistent_reconstruction.hpp).
 #include "consistency/acquisition_model.hpp"
 #include "consistency/consistent_reconstruction.hpp"
 #include "eval/edge_sharpness.hpp"
 #include "util/error.hpp"
-#include "consistency/footprint_operator.hpp"
-#include "image/optimizer.hpp"
-#include "core/costs.hpp"
-#include "image/rasterizer.hpp"
 #include "eval/synthetic_scenes.hpp"
-#include "image/triangulation.hpp"
 #include "pipeline/upscale.hpp"
 
 #include "test_support.hpp"
@@ -23,28 +17,10 @@ using namespace ddt;
 
 namespace {
 
-Mesh2 optimized_grid_mesh(const Image& img) {
-  Mesh2 mesh = delaunay_triangulation(test::grid_points(img.width, img.height));
-  LawsonOptions lawson;
-  optimize_lawson(mesh, img.pixels, img.channels, find_cost("sederberg"), lawson);
-  return mesh;
-}
-
 Image noise_image(int w, int h, int c, unsigned seed) {
   Image img(w, h, c);
   img.pixels = test::random_values(img.pixels.size(), 1, seed);
   return img;
-}
-
-// render_mesh's linear render of v (C channels) at out_width x out_height.
-Image linear_render(const Mesh2& mesh, const std::vector<float>& v, int C, const Image& img, int out_width,
-                    int out_height) {
-  RenderGrid grid;
-  grid.width = out_width;
-  grid.height = out_height;
-  grid.scale_x = double(out_width) / img.width;
-  grid.scale_y = double(out_height) / img.height;
-  return render_mesh(mesh, v, C, grid);
 }
 
 double max_difference(const Image& a, const Image& b) {
@@ -84,23 +60,31 @@ TEST_CASE("axis_weights: every input pixel's weights sum to 1, box weights are t
   CHECK(w.weight[2] == doctest::Approx(1.0 / 3));
 }
 
-TEST_CASE("footprint_operator: A v equals the acquired linear render, integer and non-integer scales") {
-  const Image img = noise_image(13, 9, 1, 5);
-  const Mesh2 mesh = optimized_grid_mesh(img);
+TEST_CASE("Acquisition: rows of input from the output rows they read equal the whole acquisition") {
+  const Image out = noise_image(37, 29, 2, 8);
   for (const char* name : {"box", "gauss:0.6", "bicubic"})
-    for (auto [ow, oh] : {std::pair{52, 36}, std::pair{31, 20}, std::pair{13, 9}, std::pair{40, 27}}) {
+    for (auto [w, h] : {std::pair{9, 7}, std::pair{37, 29}, std::pair{12, 10}}) {
       CAPTURE(name);
-      CAPTURE(ow);
+      CAPTURE(w);
       const AcquisitionModel model = parse_acquisition_model(name);
-      const SparseRows A = footprint_operator(mesh, img.width, img.height, ow, oh, model);
-      const std::vector<float> v = test::random_values(img.pixels.size(), 1, 9);
-      const Image rendered = linear_render(mesh, v, 1, img, ow, oh);
-      const Image acquired = apply_acquisition(model, rendered, img.width, img.height);
-      std::vector<double> x(v.begin(), v.end()), y;
-      A.multiply(x, y, 1);
-      double worst = 0;
-      for (std::size_t i = 0; i < y.size(); ++i) worst = std::max(worst, std::abs(y[i] - acquired.pixels[i]));
-      CHECK(worst < 1e-5);
+      const Image whole = apply_acquisition(model, out, w, h);
+      const Acquisition acquisition(model, w, h, out.width, out.height);
+      const int first = h / 3, end = h - h / 4;
+      const auto [lo, hi] = acquisition.rows_read(first, end);
+      REQUIRE(lo < hi);
+      Image rows(out.width, hi - lo, 2);
+      std::copy(out.pixels.begin() + static_cast<std::ptrdiff_t>(out.index(0, lo)),
+                out.pixels.begin() + static_cast<std::ptrdiff_t>(out.index(0, hi)), rows.pixels.begin());
+      std::vector<double> part;
+      acquisition.apply(rows, lo, first, end, part);
+      REQUIRE(part.size() == static_cast<std::size_t>(w) * (end - first) * 2);
+      for (std::size_t i = 0; i < part.size(); ++i)
+        CHECK(static_cast<float>(part[i]) == whole.pixels[whole.index(0, first) + i]);
+      // a row it reads missing is an error, not a wrong value
+      if (lo + 1 < hi) {
+        Image fewer(out.width, hi - lo - 1, 2);
+        CHECK_THROWS_AS(acquisition.apply(fewer, lo + 1, first, end, part), Error);
+      }
     }
 }
 
@@ -192,20 +176,6 @@ TEST_CASE("upscale: --model point is the plain interpolation, box differs from i
   const Image consistent = upscale(in, 36, 30);
   CHECK(max_difference(plain, consistent) > 1e-3);
   CHECK(max_difference(plain, consistent) < 0.35);  // the image's one edge is a step of 0.35
-}
-
-TEST_CASE("add_linear_surface: adds what render_mesh's linear render draws") {
-  const Image img = noise_image(11, 8, 2, 4);
-  const Mesh2 mesh = optimized_grid_mesh(img);
-  for (auto [ow, oh] : {std::pair{44, 32}, std::pair{29, 21}}) {
-    const std::vector<float> v = test::random_values(img.pixels.size(), 1, 12);
-    const Image rendered = linear_render(mesh, v, 2, img, ow, oh);
-    Image added(ow, oh, 2, 0.25f);
-    add_linear_surface(added, mesh, pixel_owners(mesh, img.width, img.height, ow, oh), img.width, img.height,
-                       std::vector<double>(v.begin(), v.end()));
-    for (float& x : added.pixels) x -= 0.25f;
-    CHECK(max_difference(rendered, added) < 1e-5);
-  }
 }
 
 TEST_CASE("upscale: the default leaves the truth's range by at most 1 % of the step beside edges") {
