@@ -293,6 +293,14 @@ int run_volume_eval(int argc, char** argv) {
   app.add_option("--reference-ss", options.reference_ss, "point samples per axis per reference voxel")
       ->check(whole_number(1, 64))
       ->capture_default_str();
+  app.add_option("--iso", options.iso_level,
+                 "the level of the isosurface pictures (default: the field's, sphere 0.5, hydrogen 0.1)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--quantize", options.quantize_bits,
+                 "round the input samples to this many bits (8: an 8-bit data set, as the paper's hydrogen "
+                 "volume); 0: keep floats")
+      ->check(whole_number(0, 24))
+      ->capture_default_str();
   app.add_flag("-q,--quiet", quiet, "print only the table");
   try {
     app.parse(argc, argv);
