@@ -67,13 +67,14 @@ int fail(const char* who, const std::exception& e) {
   return 1;
 }
 
-// The memory the job holds at least: the input and the output as floats
-// (8 bytes an output voxel with the stored copy and the ownership count),
-// one more output per --compare method, and for the mesh methods the
+// The memory the job holds at least, per channel: the input and the output
+// as floats (8 bytes an output voxel with the stored copy and the ownership
+// count), one more output per --compare method, and for the mesh methods the
 // tetrahedralization (about 0.5 KB an input voxel, docs/volumes.md).
-double volume_job_bytes(const std::string& method, std::size_t compares, double in_voxels, double out_voxels) {
+double volume_job_bytes(const std::string& method, std::size_t compares, double in_voxels, double out_voxels,
+                        int channels) {
   const bool mesh = method == "ddt" || method == "delaunay";
-  return 4.0 * in_voxels + 8.0 * out_voxels * double(1 + compares) + (mesh ? 512.0 * in_voxels : 0.0);
+  return channels * (4.0 * in_voxels + 8.0 * out_voxels * double(1 + compares)) + (mesh ? 512.0 * in_voxels : 0.0);
 }
 
 int run_volume_upscale(int argc, char** argv) {
@@ -174,7 +175,7 @@ int run_volume_upscale(int argc, char** argv) {
     // The whole job is sized from the input's header, before its data is
     // read: output size and memory.
     int out[3] = {0, 0, 0};
-    read_options.check = [&](int nx, int ny, int nz) {
+    read_options.check = [&](int nx, int ny, int nz, int channels) {
       if (scale != 0) {
         const int in[3] = {nx, ny, nz};
         for (int a = 0; a < 3; ++a) {
@@ -189,7 +190,7 @@ int run_volume_upscale(int argc, char** argv) {
                                           std::to_string(out[2]),
                             ddt::checked_product({out[0], out[1], out[2]}), max_voxels, "--max-voxels");
       ddt::check_memory_fits("this job", volume_job_bytes(method, compare.size(), double(nx) * ny * nz,
-                                                          double(out[0]) * out[1] * out[2]));
+                                                          double(out[0]) * out[1] * out[2], channels));
     };
     auto t0 = std::chrono::steady_clock::now();
     const ddt::VolumeFile file = ddt::read_volume(input, read_options);

@@ -383,7 +383,7 @@ VolumeFile read_volume(const std::string& path, const VolumeReadOptions& options
   // Teem's decoded samples and our floats, both held until the copy ends.
   check_memory_fits("reading '" + path + "' (" + size_text + ")",
                     (4.0 + double(info.sample_bytes)) * dims[0] * dims[1] * dims[2] * dims[3]);
-  if (options.check) options.check(dims[0], dims[1], dims[2]);
+  if (options.check) options.check(dims[0], dims[1], dims[2], dims[3]);
   auto header = std::make_shared<VolumeHeader>();
   for (const std::string& f : files)
     if (const auto id = file_id(f)) header->sources.push_back(*id);

@@ -84,10 +84,10 @@ struct VolumeReadOptions {
   // decompressed (size_limits.hpp): the voxel count against max_voxels
   // (named `option` in the refusal), the samples against the memory
   // available; then `check`, when set, sees the size and may throw (the CLI
-  // sizes its whole job there).
+  // sizes its whole job there: the size, then the channels).
   long long max_voxels = default_max_input_voxels();
   std::string option = "--max-input-voxels";
-  std::function<void(int nx, int ny, int nz)> check;
+  std::function<void(int nx, int ny, int nz, int channels)> check;
 };
 
 // Reads a NRRD file. The header and every data file it names must be
