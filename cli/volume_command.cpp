@@ -67,13 +67,14 @@ int fail(const char* who, const std::exception& e) {
   return 1;
 }
 
-// The memory the job holds at least: the input and the output as floats
-// (8 bytes an output voxel with the stored copy and the ownership count),
-// one more output per --compare method, and for the mesh methods the
+// The memory the job holds at least, per channel: the input and the output
+// as floats (8 bytes an output voxel with the stored copy and the ownership
+// count), one more output per --compare method, and for the mesh methods the
 // tetrahedralization (about 0.5 KB an input voxel, docs/volumes.md).
-double volume_job_bytes(const std::string& method, std::size_t compares, double in_voxels, double out_voxels) {
+double volume_job_bytes(const std::string& method, std::size_t compares, double in_voxels, double out_voxels,
+                        int channels) {
   const bool mesh = method == "ddt" || method == "delaunay";
-  return 4.0 * in_voxels + 8.0 * out_voxels * double(1 + compares) + (mesh ? 512.0 * in_voxels : 0.0);
+  return channels * (4.0 * in_voxels + 8.0 * out_voxels * double(1 + compares)) + (mesh ? 512.0 * in_voxels : 0.0);
 }
 
 int run_volume_upscale(int argc, char** argv) {
@@ -84,12 +85,13 @@ int run_volume_upscale(int argc, char** argv) {
   long long max_voxels = ddt::default_max_voxels;
   bool verbose = false, quiet = false;
   ddt::VolumeReadOptions read_options;
-  CLI::App app{"ddtscale (volumes): enlarge a scalar NRRD volume by data-dependent tetrahedrization.\n"
+  CLI::App app{"ddtscale (volumes): enlarge a NRRD volume (scalar, RGB or vector) by data-dependent tetrahedrization.\n"
                "The voxels become a 3D scalar field, tetrahedrized (Delaunay, then bistellar 2-3, 3-2, 4-4 and\n"
                "hull 2-2 flips that lower the weighted content of the paper's cost) so that long thin\n"
                "tetrahedra follow surfaces; the piecewise-linear field is scan-converted at the new size.",
                "ddtscale"};
-  app.add_option("input", input, "input volume (.nrrd or .nhdr; raw, gzip, ...; 8/16/32-bit integer or float)")
+  app.add_option("input", input, "input volume (.nrrd or .nhdr; raw, gzip, ...; 8/16/32-bit integer or float; "
+                 "channels on a leading non-spatial axis: kind vector, RGB-color, 3-vector, ...)")
       ->required();
   app.add_option("output", output, "output volume (.nrrd or .nhdr); keeps the input's sample type and encoding")
       ->required();
@@ -133,6 +135,8 @@ int run_volume_upscale(int argc, char** argv) {
       "  variance   weight = variance of the four vertex values (default; the paper's 3D experiments)\n"
       "  sederberg  weight = mean over the four faces of |g1||g2| - g1.g2 (gradients on the two\n"
       "             tetrahedra sharing the face)\n"
+      "Channels (RGB, vectors): one tetrahedrization for all of them, the cost summed over channels\n"
+      "(up to 8); the output keeps the channel axis and its kind; --picture shows the first channel.\n"
       "Output voxel (X, Y, Z) samples the input at ((X + 0.5) / sx, ...); outside the voxel centres'\n"
       "box it takes the value of the nearest point of the box. Spacing, space directions and origin\n"
       "are scaled so every output sample keeps its world position.\n"
@@ -171,7 +175,7 @@ int run_volume_upscale(int argc, char** argv) {
     // The whole job is sized from the input's header, before its data is
     // read: output size and memory.
     int out[3] = {0, 0, 0};
-    read_options.check = [&](int nx, int ny, int nz) {
+    read_options.check = [&](int nx, int ny, int nz, int channels) {
       if (scale != 0) {
         const int in[3] = {nx, ny, nz};
         for (int a = 0; a < 3; ++a) {
@@ -186,12 +190,14 @@ int run_volume_upscale(int argc, char** argv) {
                                           std::to_string(out[2]),
                             ddt::checked_product({out[0], out[1], out[2]}), max_voxels, "--max-voxels");
       ddt::check_memory_fits("this job", volume_job_bytes(method, compare.size(), double(nx) * ny * nz,
-                                                          double(out[0]) * out[1] * out[2]));
+                                                          double(out[0]) * out[1] * out[2], channels));
     };
     auto t0 = std::chrono::steady_clock::now();
     const ddt::VolumeFile file = ddt::read_volume(input, read_options);
     const ddt::Volume& src = file.volume;
-    log("read: " + input + ", " + size_text(src) + ", " + ddt::sample_type_name(file.type) + ", " +
+    log("read: " + input + ", " + size_text(src) +
+        (src.channels > 1 ? ", " + std::to_string(src.channels) + " channels" : std::string()) + ", " +
+        ddt::sample_type_name(file.type) + ", " +
         ddt::encoding_name(file.encoding) + ", " + std::to_string(seconds_since(t0)) + " s");
 
     const ddt::VolumeSampleType out_type = same_type ? file.type : forced_type;
@@ -223,11 +229,17 @@ int run_volume_upscale(int argc, char** argv) {
       log("compare: " + path);
     }
     if (!picture.empty()) {
+      // Several channels: the picture shows the first.
+      std::vector<ddt::Volume> firsts;
+      if (src.channels > 1) {
+        for (const auto& b : baselines) firsts.push_back(ddt::volume_channel(b, 0));
+        firsts.push_back(ddt::volume_channel(result, 0));
+      }
       std::vector<const ddt::Volume*> columns;
-      for (const auto& b : baselines) columns.push_back(&b);
-      columns.push_back(&result);
+      for (const auto& b : src.channels > 1 ? firsts : baselines) columns.push_back(&b);
+      if (src.channels == 1) columns.push_back(&result);
       double lo = 0, hi = 1;
-      ddt::value_range(src, lo, hi);
+      ddt::value_range(src.channels > 1 ? ddt::volume_channel(src, 0) : src, lo, hi);
       std::vector<ddt::VolumeView> rows = {ddt::VolumeView::slice_xy, ddt::VolumeView::slice_xz,
                                            ddt::VolumeView::slice_yz, ddt::VolumeView::mip_z};
       ddt::IsoView iso_view;
@@ -281,6 +293,14 @@ int run_volume_eval(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--reference-ss", options.reference_ss, "point samples per axis per reference voxel")
       ->check(whole_number(1, 64))
+      ->capture_default_str();
+  app.add_option("--iso", options.iso_level,
+                 "the level of the isosurface pictures (default: the field's, sphere 0.5, hydrogen 0.1)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--quantize", options.quantize_bits,
+                 "round the input samples to this many bits (8: an 8-bit data set, as the paper's hydrogen "
+                 "volume); 0: keep floats")
+      ->check(whole_number(0, 24))
       ->capture_default_str();
   app.add_flag("-q,--quiet", quiet, "print only the table");
   try {

@@ -36,9 +36,12 @@ void copy_volume(const py::array& array, std::vector<float>& out) {
 
 template <class T>
 py::array volume_as(const ddt::Volume& v) {
-  py::array_t<T> out({v.nz, v.ny, v.nx});
+  // Several channels: a last axis of them (NRRD's leading axis, interleaved).
+  std::vector<py::ssize_t> shape = {v.nz, v.ny, v.nx};
+  if (v.channels > 1) shape.push_back(v.channels);
+  py::array_t<T> out(shape);
   T* p = out.mutable_data();
-  const std::size_t n = v.voxel_count();
+  const std::size_t n = v.voxels.size();
   if constexpr (std::is_floating_point_v<T>) {
     std::copy(v.voxels.begin(), v.voxels.end(), p);
   } else {

@@ -2,6 +2,9 @@
 # Reproduces the figures of docs/volumes.md:
 #   1. the paper's 3D experiments (sphere and hydrogen orbital, 32^3, x4):
 #      docs/volumes/experiments.md and the pictures docs/volumes/*.png;
+#   1b. the hydrogen orbital as an 8-bit data set (quantized input, as the
+#      paper's hydrogen volume): docs/volumes/hydrogen-8bit.md and
+#      docs/volumes/hydrogen-x4-q8*.png;
 #   2. the benchmark (hydrogen orbital at 32^3, 64^3, 128^3, x2 and x4; time
 #      of each stage and peak memory): docs/volumes/benchmark.md.
 # Usage: scripts/volume_experiments.sh [BUILD_DIR] [experiments|benchmark|all]
@@ -19,6 +22,9 @@ mkdir -p docs/volumes
 
 if [ "$what" = all ] || [ "$what" = experiments ]; then
   "$bin" volume-eval --size 32 --scale 4 --pictures docs/volumes --table docs/volumes/experiments.md
+  "$bin" volume-eval --size 32 --scale 4 --fields hydrogen --quantize 8 \
+    --methods trilinear,tricubic,delaunay,ddt:variance,ddt:sederberg --picture-methods trilinear,tricubic,ddt:variance \
+    --iso 0.02 --pictures docs/volumes --table docs/volumes/hydrogen-8bit.md
 fi
 
 if [ "$what" = all ] || [ "$what" = benchmark ]; then

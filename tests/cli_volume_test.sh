@@ -55,6 +55,30 @@ run_ok "methods" "$work/s.nrrd" "$work/m.nrrd" --scale 2 --method trilinear
 run_ok "single slice" volume-field sphere "$work/flat.nrrd" --size 8x8x1
 run_ok "single slice enlarged" "$work/flat.nrrd" "$work/flat4.nrrd" --scale 4
 [ "$(header sizes "$work/flat4.nrrd")" = "32 32 4" ] && ok || bad "single slice: $(header sizes "$work/flat4.nrrd")"
+# Channels: an RGB volume (a leading axis of kind RGB-color) keeps its
+# channel axis, kind and sample type; each channel is reproduced at the
+# input samples (x3: output voxel 3i + 1 is input voxel i).
+{
+  printf 'NRRD0004\ntype: uchar\ndimension: 4\nsizes: 3 4 4 4\nkinds: RGB-color space space space\n'
+  printf 'space: right-anterior-superior\nspace directions: none (1,0,0) (0,1,0) (0,0,2)\nspace origin: (0,0,0)\n'
+  printf 'encoding: ascii\n\n'
+  for i in $(seq 0 63); do printf '%d %d %d\n' $((i * 4 % 256)) $((255 - i * 3)) $(((i * 37) % 200)); done
+} >"$work/rgb.nrrd"
+run_ok "RGB volume" "$work/rgb.nrrd" "$work/rgb3.nrrd" --scale 3 --encoding ascii --verbose
+grep -q "3 channels" "$work/err.txt" && ok || bad "RGB volume: --verbose does not name the channels"
+[ "$(header sizes "$work/rgb3.nrrd")" = "3 12 12 12" ] && ok || bad "RGB volume: sizes $(header sizes "$work/rgb3.nrrd")"
+[ "$(header kinds "$work/rgb3.nrrd")" = "RGB-color space space space" ] && ok ||
+  bad "RGB volume: kinds $(header kinds "$work/rgb3.nrrd")"
+[ "$(header type "$work/rgb3.nrrd")" = "unsigned char" ] && ok || bad "RGB volume did not stay 8-bit"
+# Input voxel (1, 2, 3) = sample 57 of the ascii list; output voxel (4, 7, 10).
+want=$(sed -n '/^$/,$p' "$work/rgb.nrrd" | sed 1d | sed -n "$((1 + 3 * 16 + 2 * 4 + 1))p")
+got=$(sed -n '/^$/,$p' "$work/rgb3.nrrd" | sed 1d | tr -s ' \n' '\n\n' | sed '/^$/d' |
+  sed -n "$((3 * ((10 * 12 + 7) * 12 + 4) + 1)),$((3 * ((10 * 12 + 7) * 12 + 4) + 3))p" | tr '\n' ' ' | sed 's/ $//')
+[ "$got" = "$want" ] && ok || bad "RGB volume: voxel (4, 7, 10) is '$got', input voxel (1, 2, 3) was '$want'"
+run_ok "RGB volume, compare and picture" "$work/rgb.nrrd" "$work/rgb2.nrrd" --scale 2 --compare trilinear \
+  --picture "$work/rgb.png"
+[ "$(header sizes "$work/rgb2.trilinear.nrrd")" = "3 8 8 8" ] && ok || bad "RGB volume: --compare lost the channels"
+
 run_ok "volume-eval" volume-eval --size 5 --scale 2 --methods trilinear,ddt --input-ss 2 --reference-ss 1 --quiet
 grep -q "| sphere | ddt |" "$work/out.txt" && ok || bad "volume-eval printed no table"
 

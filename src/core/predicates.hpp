@@ -20,7 +20,7 @@
 //     to the query point). Nonzero whenever p0 .. p(D-1) are affinely
 //     independent, and antisymmetric in them, so of two cells sharing a
 //     facet exactly one owns a point that lies on it. The 2D rasterizer's
-//     pixel ownership and rasterizer3's voxel ownership use it.
+//     pixel ownership and scan_convert<D>'s sample ownership use it.
 //   perturbed_tie<D>(p0, ..., p(D-1)) = what perturbed_orient returns when
 //     orient is 0: the sign of the perturbation term, which depends on the
 //     facet only (so a rasterizer computes it once per edge or face).

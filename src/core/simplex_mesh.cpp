@@ -51,6 +51,7 @@ SimplexMesh<D> mesh_from_cells(std::vector<Vec<D>> points, const std::vector<Cel
 #define DDT_CORE_INSTANTIATE(D)                  \
   template bool link_facets<D>(SimplexMesh<D>&); \
   template SimplexMesh<D> mesh_from_cells<D>(std::vector<Vec<D>>, const std::vector<CellVertices<D>>&);
+DDT_CORE_INSTANTIATE(1)
 DDT_CORE_INSTANTIATE(2)
 DDT_CORE_INSTANTIATE(3)
 DDT_CORE_INSTANTIATE(4)

@@ -6,7 +6,9 @@
 #include "eval/volume_pictures.hpp"
 #include "volume/volume_upscale.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
@@ -27,6 +29,9 @@ VolumeUpscaleOptions options_for(const std::string& spec) {
 
 std::vector<VolumeExperimentRow> run_volume_experiments(const VolumeExperimentOptions& options) {
   if (options.size < 2 || options.scale < 1) throw Error("volume experiments: size must be >= 2 and scale >= 1");
+  if (options.quantize_bits < 0 || options.quantize_bits > 24)
+    throw Error("volume experiments: quantize to 1..24 bits (0: no quantization)");
+  const std::string suffix = options.quantize_bits > 0 ? "-q" + std::to_string(options.quantize_bits) : "";
   for (const auto& spec : options.methods) find_cost(options_for(spec).cost);  // fail fast
   if (!options.picture_dir.empty() && !std::filesystem::is_directory(options.picture_dir))
     throw Error("picture directory '" + options.picture_dir + "' does not exist");
@@ -37,7 +42,11 @@ std::vector<VolumeExperimentRow> run_volume_experiments(const VolumeExperimentOp
   const int n = options.size, N = options.size * options.scale;
   for (const std::string& name : options.fields) {
     const VolumeField& field = find_volume_field(name);
-    const Volume input = sample_field(field, n, n, n, options.input_ss);
+    Volume input = sample_field(field, n, n, n, options.input_ss);
+    if (options.quantize_bits > 0) {
+      const double levels = std::ldexp(1.0, options.quantize_bits) - 1;
+      for (float& v : input.voxels) v = static_cast<float>(std::round(std::clamp(double(v), 0.0, 1.0) * levels) / levels);
+    }
     const Volume reference = sample_field(field, N, N, N, options.reference_ss);
     std::map<std::string, Volume> results;
     for (const std::string& spec : options.methods) {
@@ -69,15 +78,15 @@ std::vector<VolumeExperimentRow> run_volume_experiments(const VolumeExperimentOp
       const Image picture =
           compare_views(columns, {VolumeView::slice_xy, VolumeView::slice_xz, VolumeView::mip_z}, 0.0, 1.0);
       const std::string path =
-          (std::filesystem::path(options.picture_dir) / (name + "-x" + std::to_string(options.scale) + ".png")).string();
+          (std::filesystem::path(options.picture_dir) / (name + "-x" + std::to_string(options.scale) + suffix + ".png")).string();
       write_image(path, picture, SampleFormat::uint8);
       log("picture: " + path);
       IsoView iso;
-      iso.level = field.iso_level;
+      iso.level = options.iso_level > 0 ? options.iso_level : field.iso_level;
       iso.zoom = 1.8;
       iso.size = 2 * N;
       const std::string iso_path = (std::filesystem::path(options.picture_dir) /
-                                    (name + "-x" + std::to_string(options.scale) + "-iso.png")).string();
+                                    (name + "-x" + std::to_string(options.scale) + suffix + "-iso.png")).string();
       write_image(iso_path, compare_views(columns, {VolumeView::isosurface}, 0.0, 1.0, iso), SampleFormat::uint8);
       log("picture: " + iso_path);
     }

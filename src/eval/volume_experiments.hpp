@@ -9,6 +9,11 @@
 // voxel, the reference with reference_ss^3 per (smaller) voxel; both are
 // the footprint of a scanner's voxel at their resolution.
 //
+// Quantization (quantize_bits = b > 0): the input samples are rounded to
+// b bits, v -> round(v (2^b - 1)) / (2^b - 1), as an 8-bit data set stores
+// the field (the paper's hydrogen volume); the reference stays continuous.
+// Pictures are then named <field>-x<scale>-q<b>.png (and -q<b>-iso.png).
+//
 // Methods are volume_upscale_methods() names; "ddt:COST" picks the cost
 // (plain "ddt" is "ddt:variance", the paper's choice for its figures).
 //
@@ -16,7 +21,8 @@
 // column per picture_methods entry after the reference, rows: middle x-y
 // slice, middle x-z slice, maximum-intensity projection along z; grey
 // levels 0..1. And <dir>/<field>-x<scale>-iso.png, the same columns as
-// shaded isosurfaces at the field's iso_level (volume_pictures.hpp), each
+// shaded isosurfaces at the field's iso_level or options.iso_level
+// (volume_pictures.hpp), each
 // 2 * size * scale pixels square.
 //
 // Errors: throws ddt::Error (unknown field, method or cost; unwritable
@@ -33,6 +39,8 @@ struct VolumeExperimentOptions {
   int scale = 4;
   int input_ss = 8;
   int reference_ss = 6;
+  int quantize_bits = 0;  // 0: the input keeps float precision
+  double iso_level = 0;   // > 0: the isosurface pictures' level instead of the field's iso_level
   std::vector<std::string> fields = {"sphere", "hydrogen"};
   std::vector<std::string> methods = {"trilinear", "tricubic", "delaunay", "ddt:variance", "ddt:sederberg"};
   std::vector<std::string> picture_methods = {"trilinear", "ddt:variance", "ddt:sederberg"};

@@ -117,6 +117,7 @@ bool single_int_conversion(const std::string& format) {
 struct HeaderInfo {
   std::vector<std::string> data_files;  // empty when the data is attached; paths usable from here
   std::vector<std::size_t> sizes;       // of every axis
+  std::vector<int> kinds;               // of every axis (Teem's nrrdKind*)
   std::size_t sample_bytes = 0;         // of one stored sample
 };
 
@@ -250,7 +251,10 @@ HeaderInfo read_header(const std::string& path, const std::vector<std::string>& 
   } owner{nrrd, nio};
   if (nrrdLoad(nrrd, path.c_str(), nio)) throw Error("cannot read '" + path + "': " + teem_error());
   HeaderInfo info;
-  for (unsigned a = 0; a < nrrd->dim; ++a) info.sizes.push_back(nrrd->axis[a].size);
+  for (unsigned a = 0; a < nrrd->dim; ++a) {
+    info.sizes.push_back(nrrd->axis[a].size);
+    info.kinds.push_back(nrrd->axis[a].kind);
+  }
   info.sample_bytes = nrrdElementSize(nrrd);
   std::vector<std::string> names;
   if (nio->dataFNFormat)
@@ -269,30 +273,42 @@ HeaderInfo read_header(const std::string& path, const std::vector<std::string>& 
   return info;
 }
 
-// The volume's size from the axis sizes (see volume_io.hpp: 2 axes are one
-// slice, 4 axes a volume when the first has size 1); axis0 is the x axis.
-// Throws for other shapes and for sizes past an int.
-std::array<int, 3> volume_size(const std::vector<std::size_t>& sizes, const std::string& path, unsigned& axis0) {
-  std::size_t size[3] = {1, 1, 1};
-  axis0 = 0;
-  if (sizes.size() == 2 || sizes.size() == 3) {
-    for (unsigned a = 0; a < sizes.size(); ++a) size[a] = sizes[a];
-  } else if (sizes.size() == 4 && sizes[0] == 1) {
-    axis0 = 1;
-    for (unsigned a = 0; a < 3; ++a) size[a] = sizes[a + 1];
+// A leading axis holds channels when Teem's kind calls it non-spatial
+// (vector, RGB-color, 3-vector, ...: every kind but domain, space, time and
+// unknown), or, with 4 axes, when it has size 1 (as before channels).
+bool channel_axis(const std::vector<std::size_t>& sizes, const std::vector<int>& kinds) {
+  if (sizes.size() < 3 || sizes.size() > 4) return false;
+  const int kind = kinds.empty() ? nrrdKindUnknown : kinds[0];
+  if (kind != nrrdKindUnknown && !nrrdKindIsDomain(kind)) return true;
+  return sizes.size() == 4 && sizes[0] == 1;
+}
+
+// The volume's size and channels from the axis sizes (see volume_io.hpp: 2
+// spatial axes are one slice; a leading non-spatial axis holds the
+// channels); axis0 is the x axis. Throws for other shapes and for sizes
+// past an int.
+std::array<int, 4> volume_size(const std::vector<std::size_t>& sizes, const std::vector<int>& kinds,
+                               const std::string& path, unsigned& axis0) {
+  std::size_t size[4] = {1, 1, 1, 1};  // x, y, z, channels
+  axis0 = channel_axis(sizes, kinds) ? 1 : 0;
+  const std::size_t spatial = sizes.size() - axis0;
+  if (spatial == 2 || spatial == 3) {
+    for (unsigned a = 0; a < spatial; ++a) size[a] = sizes[a + axis0];
+    if (axis0 == 1) size[3] = sizes[0];
   } else {
     std::string text;
     for (std::size_t s : sizes) {
       if (!text.empty()) text.push_back('x');
       text.append(std::to_string(s));
     }
-    throw Error("cannot read '" + path + "': a scalar volume has 3 axes, this NRRD has " +
-                std::to_string(sizes.size()) + " (" + text + ")");
+    throw Error("cannot read '" + path + "': a volume has 3 axes (after a leading non-spatial axis of kind vector, "
+                "RGB-color, ... for channels), this NRRD has " + std::to_string(sizes.size()) + " (" + text + ")");
   }
   for (std::size_t s : size)
     if (s == 0 || s > static_cast<std::size_t>(std::numeric_limits<int>::max()))
       throw Error("cannot read '" + path + "': an axis has size 0 or is too large");
-  return {static_cast<int>(size[0]), static_cast<int>(size[1]), static_cast<int>(size[2])};
+  if (size[3] > 256) throw Error("cannot read '" + path + "': more than 256 channels");
+  return {static_cast<int>(size[0]), static_cast<int>(size[1]), static_cast<int>(size[2]), static_cast<int>(size[3])};
 }
 
 }  // namespace
@@ -359,15 +375,15 @@ VolumeFile read_volume(const std::string& path, const VolumeReadOptions& options
   // The header's claims, before a sample is read or decompressed
   // (decompression bombs: `sizes: 400 400 400` in a 100-byte file).
   unsigned axis0 = 0;
-  const std::array<int, 3> dims = volume_size(info.sizes, path, axis0);
+  const std::array<int, 4> dims = volume_size(info.sizes, info.kinds, path, axis0);
   const std::string size_text =
       std::to_string(dims[0]) + "x" + std::to_string(dims[1]) + "x" + std::to_string(dims[2]);
   check_size_limit("input '" + path + "'", size_text, checked_product({dims[0], dims[1], dims[2]}),
                    options.max_voxels, options.option);
   // Teem's decoded samples and our floats, both held until the copy ends.
   check_memory_fits("reading '" + path + "' (" + size_text + ")",
-                    (4.0 + double(info.sample_bytes)) * dims[0] * dims[1] * dims[2]);
-  if (options.check) options.check(dims[0], dims[1], dims[2]);
+                    (4.0 + double(info.sample_bytes)) * dims[0] * dims[1] * dims[2] * dims[3]);
+  if (options.check) options.check(dims[0], dims[1], dims[2], dims[3]);
   auto header = std::make_shared<VolumeHeader>();
   for (const std::string& f : files)
     if (const auto id = file_id(f)) header->sources.push_back(*id);
@@ -396,8 +412,8 @@ VolumeFile read_volume(const std::string& path, const VolumeReadOptions& options
   for (unsigned a = 0; a < nin->dim; ++a) sizes.push_back(nin->axis[a].size);
   if (sizes != info.sizes) throw Error("cannot read '" + path + "': the file changed while it was read");
   header->axis0 = axis0;
-  file.volume = Volume(dims[0], dims[1], dims[2]);
-  const std::size_t n = file.volume.voxel_count();
+  file.volume = Volume(dims[0], dims[1], dims[2], dims[3], 0.0f);
+  const std::size_t n = file.volume.voxels.size();
   for (std::size_t i = 0; i < n; ++i) {
     const double v = nrrdDLookup[nin->type](nin->data, i);
     if (!std::isfinite(v)) throw Error("cannot read '" + path + "': the volume holds NaN or infinite samples");
@@ -448,21 +464,25 @@ void write_volume(const std::string& path, const Volume& volume, VolumeSampleTyp
     ~NrrdOwner() { nrrdNuke(n); }
   } owner;
   Nrrd* nout = owner.n;
-  const unsigned axis0 = like ? like->axis0 : 0;
-  const bool flat = like && like->nrrd->dim == 2 && volume.nz == 1;
-  int failed = 0;
+  const std::size_t channels = volume.channels;
+  if (channels < 1 || volume.voxels.size() != volume.voxel_count() * channels)
+    throw Error("cannot write '" + path + "': the samples do not match the volume's size and channels");
+  if (like && (like->axis0 == 1 ? like->nrrd->axis[0].size : 1) != channels)
+    throw Error("cannot write '" + path + "': the volume has another number of channels than its input");
+  // A channel axis leads when there are channels or the input had one.
+  const unsigned axis0 = (like ? like->axis0 : 0) == 1 || channels > 1 ? 1 : 0;
+  const bool flat = like && like->nrrd->dim == 2 + axis0 && volume.nz == 1;
+  const unsigned spatial = flat ? 2 : 3;
+  std::size_t sizes[4] = {channels, std::size_t(volume.nx), std::size_t(volume.ny), std::size_t(volume.nz)};
+  if (nrrdAlloc_nva(nout, info.teem, spatial + axis0, sizes + (1 - axis0)))
+    throw Error("cannot write '" + path + "': " + teem_error());
   const std::size_t nx = volume.nx, ny = volume.ny, nz = volume.nz;
-  if (axis0 == 1) failed = nrrdAlloc_va(nout, info.teem, 4, std::size_t(1), nx, ny, nz);
-  else if (flat) failed = nrrdAlloc_va(nout, info.teem, 2, nx, ny);
-  else failed = nrrdAlloc_va(nout, info.teem, 3, nx, ny, nz);
-  if (failed) throw Error("cannot write '" + path + "': " + teem_error());
-  const std::size_t n = volume.voxel_count();
+  const std::size_t n = volume.voxels.size();
   for (std::size_t i = 0; i < n; ++i) {
     double v = volume.voxels[i];
     if (info.integer) v = std::clamp(std::nearbyint(v), info.lo, info.hi);
     nrrdDInsert[info.teem](nout->data, i, v);
   }
-  const unsigned spatial = flat ? 2 : 3;
   if (like) {
     const Nrrd* nin = like->nrrd;
     if (nrrdBasicInfoCopy(nout, nin,
@@ -486,7 +506,11 @@ void write_volume(const std::string& path, const Volume& volume, VolumeSampleTyp
       ax.center = nrrdCenterCell;
     }
   } else {
-    for (unsigned a = 0; a < spatial; ++a) nout->axis[a].center = nrrdCenterCell;
+    for (unsigned a = 0; a < spatial; ++a) {
+      nout->axis[axis0 + a].center = nrrdCenterCell;
+      if (axis0 == 1) nout->axis[axis0 + a].kind = nrrdKindDomain;
+    }
+    if (axis0 == 1) nout->axis[0].kind = channels == 3 ? nrrdKind3Vector : nrrdKindVector;
   }
   if (!comment.empty()) nrrdCommentAdd(nout, comment.c_str());
 

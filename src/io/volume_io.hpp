@@ -10,9 +10,16 @@
 //     output is rounded and clamped to its type's range.
 //   - Any encoding Teem reads is accepted (raw, gzip, bzip2, ascii, hex);
 //     the output keeps the input's encoding unless asked otherwise.
-//   - A volume has 3 axes; a NRRD with 2 axes is read as one slice (nz = 1),
-//     one with 4 axes as a volume if its first axis has size 1. Other
-//     multi-component data (RGB, tensors) is refused.
+//   - A volume has 3 spatial axes (2: one slice, nz = 1), after a leading
+//     non-spatial axis when there are channels: the first axis holds the
+//     channels when Teem's kind calls it non-spatial (vector, RGB-color,
+//     3-vector, 3-color, 4-color, RGBA-color, ...: any kind but domain,
+//     space, time and unknown), or, with 4 axes, when it has size 1. The
+//     channels are read interleaved (Volume::channels). A 4-axis NRRD
+//     whose first axis is spatial or of unknown kind with size > 1 is
+//     refused. Written volumes keep the input's axes and kinds; a volume
+//     of several channels without an input header gets a leading axis of
+//     kind 3-vector (3 channels) or vector.
 //   - Writing is atomic and exclusive (safe_file.hpp): everything is
 //     written into a private directory beside the target, every write
 //     error seen, and renamed into place only after a complete, synced
@@ -77,10 +84,10 @@ struct VolumeReadOptions {
   // decompressed (size_limits.hpp): the voxel count against max_voxels
   // (named `option` in the refusal), the samples against the memory
   // available; then `check`, when set, sees the size and may throw (the CLI
-  // sizes its whole job there).
+  // sizes its whole job there: the size, then the channels).
   long long max_voxels = default_max_input_voxels();
   std::string option = "--max-input-voxels";
-  std::function<void(int nx, int ny, int nz)> check;
+  std::function<void(int nx, int ny, int nz, int channels)> check;
 };
 
 // Reads a NRRD file. The header and every data file it names must be

@@ -1,6 +1,8 @@
 #pragma once
-// ddt::Volume — the library's in-memory scalar volume: float samples,
-// x fastest, then y, then z (NRRD's and most viewers' order).
+// ddt::Volume — the library's in-memory volume: float samples with C >= 1
+// channels (1: scalar, 3: RGB or a 3-vector, ...), channels fastest, then x,
+// then y, then z (NRRD's order with the non-spatial axis first, and most
+// viewers').
 //
 // Voxel convention (the 3D form of image.hpp's pixel convention, used by
 // every volume function in ddtscale): sample (i, j, k) sits at the voxel
@@ -19,20 +21,35 @@ namespace ddt {
 
 struct Volume {
   int nx = 0, ny = 0, nz = 0;
-  std::vector<float> voxels;  // nx * ny * nz
+  int channels = 1;
+  std::vector<float> voxels;  // nx * ny * nz * channels
 
   Volume() = default;
   Volume(int x, int y, int z, float fill = 0.0f)
       : nx(x), ny(y), nz(z), voxels(static_cast<std::size_t>(x) * y * z, fill) {}
+  Volume(int x, int y, int z, int c, float fill)
+      : nx(x), ny(y), nz(z), channels(c), voxels(static_cast<std::size_t>(x) * y * z * c, fill) {}
 
   std::size_t voxel_count() const { return static_cast<std::size_t>(nx) * ny * nz; }
   bool empty() const { return voxels.empty(); }
 
+  // The voxel's number (x fastest); its channel c is voxels[index * channels + c].
   std::size_t index(int x, int y, int z) const {
     return (static_cast<std::size_t>(z) * ny + y) * nx + x;
   }
-  float& at(int x, int y, int z) { return voxels[index(x, y, z)]; }
-  float at(int x, int y, int z) const { return voxels[index(x, y, z)]; }
+  float& at(int x, int y, int z, int c = 0) { return voxels[index(x, y, z) * channels + c]; }
+  float at(int x, int y, int z, int c = 0) const { return voxels[index(x, y, z) * channels + c]; }
 };
+
+// One channel of a volume as a scalar volume, and the channels put together
+// again (the classic resamplers and pictures work on one channel).
+inline Volume volume_channel(const Volume& v, int c) {
+  Volume out(v.nx, v.ny, v.nz);
+  for (std::size_t i = 0; i < out.voxels.size(); ++i) out.voxels[i] = v.voxels[i * v.channels + c];
+  return out;
+}
+inline void set_volume_channel(Volume& v, int c, const Volume& channel) {
+  for (std::size_t i = 0; i < channel.voxels.size(); ++i) v.voxels[i * v.channels + c] = channel.voxels[i];
+}
 
 }  // namespace ddt

@@ -2,8 +2,8 @@
 
 #include "util/error.hpp"
 #include "util/image.hpp"
-#include "volume/rasterizer3.hpp"
-#include "volume/tetrahedralization.hpp"
+#include "core/grid_delaunay.hpp"
+#include "core/scan_convert.hpp"
 #include "pipeline/upscale.hpp"
 #include "eval/volume_resample.hpp"
 
@@ -26,12 +26,13 @@ Volume upscale_planar(const Volume& src, const int out[3], const VolumeUpscaleOp
   int axes[3] = {0, 1, 2};
   std::stable_sort(axes, axes + 3, [&](int a, int b) { return (in[a] > 1) > (in[b] > 1); });
   const int u = axes[0], v = axes[1];
-  Image img(in[u], in[v], 1);
+  const int C = src.channels;
+  Image img(in[u], in[v], C);
   for (int j = 0; j < in[v]; ++j)
     for (int i = 0; i < in[u]; ++i) {
       int c[3] = {0, 0, 0};
       c[u] = i, c[v] = j;
-      img.at(i, j) = src.at(c[0], c[1], c[2]);
+      for (int ch = 0; ch < C; ++ch) img.at(i, j, ch) = src.at(c[0], c[1], c[2], ch);
     }
   UpscaleOptions o;
   o.cost = options.cost;
@@ -49,12 +50,12 @@ Volume upscale_planar(const Volume& src, const int out[3], const VolumeUpscaleOp
   stats.seconds_triangulate = s2.seconds_triangulate;
   stats.seconds_optimize = s2.seconds_optimize;
   stats.seconds_render = s2.seconds_render;
-  Volume result(out[0], out[1], out[2]);
+  Volume result(out[0], out[1], out[2], C, 0.0f);
   for (int Z = 0; Z < out[2]; ++Z)
     for (int Y = 0; Y < out[1]; ++Y)
       for (int X = 0; X < out[0]; ++X) {
         const int c[3] = {X, Y, Z};
-        result.at(X, Y, Z) = big.at(c[u], c[v]);
+        for (int ch = 0; ch < C; ++ch) result.at(X, Y, Z, ch) = big.at(c[u], c[v], ch);
       }
   return result;
 }
@@ -75,6 +76,11 @@ const std::vector<std::string>& volume_upscale_methods() {
 Volume upscale_volume(const Volume& src, int nx, int ny, int nz, const VolumeUpscaleOptions& options,
                       VolumeUpscaleStats* stats) {
   if (src.empty() || src.nx <= 0 || src.ny <= 0 || src.nz <= 0) throw Error("the input volume is empty");
+  if (src.channels < 1 || src.voxels.size() != src.voxel_count() * src.channels)
+    throw Error("the input volume's samples do not match its size and channels");
+  if (options.method == "ddt" && src.channels > max_cost_channels)
+    throw Error("a volume of " + std::to_string(src.channels) + " channels: the flip costs take at most " +
+                std::to_string(max_cost_channels));
   if (nx < 1 || ny < 1 || nz < 1) throw Error("the output size must be at least 1x1x1");
   const auto& methods = volume_upscale_methods();
   if (std::find(methods.begin(), methods.end(), options.method) == methods.end())
@@ -86,7 +92,10 @@ Volume upscale_volume(const Volume& src, int nx, int ny, int nz, const VolumeUps
   };
   if (options.method == "trilinear" || options.method == "tricubic") {
     auto t0 = std::chrono::steady_clock::now();
-    Volume out = classic_resize_volume(src, nx, ny, nz, options.method);
+    Volume out(nx, ny, nz, src.channels, 0.0f);
+    for (int c = 0; c < src.channels; ++c)
+      set_volume_channel(out, c, classic_resize_volume(src.channels == 1 ? src : volume_channel(src, c), nx, ny, nz,
+                                                       options.method));
     local.seconds_render = seconds_since(t0);
     if (stats) *stats = local;
     return out;
@@ -100,7 +109,7 @@ Volume upscale_volume(const Volume& src, int nx, int ny, int nz, const VolumeUps
   }
 
   auto t0 = std::chrono::steady_clock::now();
-  core::SimplexMesh<3> mesh = grid_tetrahedralization(src.nx, src.ny, src.nz);  // = CGAL's Delaunay of the voxel centres
+  core::SimplexMesh<3> mesh = core::grid_delaunay<3>({src.nx, src.ny, src.nz});  // = CGAL's Delaunay of the voxel centres
   local.seconds_triangulate = seconds_since(t0);
   local.tetrahedra = mesh.cell_count();
   log("tetrahedralize: " + std::to_string(mesh.points.size()) + " points, " + std::to_string(mesh.cell_count()) +
@@ -120,7 +129,7 @@ Volume upscale_volume(const Volume& src, int nx, int ny, int nz, const VolumeUps
                       flips.summary().c_str(), total);
         log(line);
       };
-    const core::LawsonStats ls = core::optimize_lawson<3>(mesh, src.voxels, 1, cost, lawson);
+    const core::LawsonStats ls = core::optimize_lawson<3>(mesh, src.voxels, src.channels, cost, lawson);
     local.iterations = ls.iterations;
     local.flips = ls.flips;
     local.cost_before = ls.cost_before;
@@ -137,13 +146,11 @@ Volume upscale_volume(const Volume& src, int nx, int ny, int nz, const VolumeUps
   }
 
   t0 = std::chrono::steady_clock::now();
-  VolumeGrid grid;
-  grid.nx = nx, grid.ny = ny, grid.nz = nz;
-  grid.scale_x = double(nx) / src.nx;
-  grid.scale_y = double(ny) / src.ny;
-  grid.scale_z = double(nz) / src.nz;
-  Render3Stats rs;
-  Volume out = render_tetrahedra(mesh, src.voxels, grid, &rs);
+  core::ScanStats rs;
+  Volume out;
+  out.nx = nx, out.ny = ny, out.nz = nz, out.channels = src.channels;
+  out.voxels = core::scan_convert<3>(mesh, src.voxels, src.channels,
+                                     core::ScanGrid<3>::whole({src.nx, src.ny, src.nz}, {nx, ny, nz}), &rs);
   local.seconds_render = seconds_since(t0);
   log("render: " + std::to_string(nx) + "x" + std::to_string(ny) + "x" + std::to_string(nz) + ", " +
       std::to_string(rs.owned) + " voxels in tetrahedra + " + std::to_string(rs.rim) + " on the hull rim, " +

@@ -1,13 +1,15 @@
 #pragma once
-// ddt::upscale_volume — enlarge a scalar volume by data-dependent
+// ddt::upscale_volume — enlarge a volume (C channels) by data-dependent
 // tetrahedrization (the paper's 3D method), or by a classic resampler.
 //
 // Pipeline ("ddt"): samples at voxel centres -> Delaunay tetrahedrization
-// (CGAL, tetrahedralization.hpp) -> generalized Lawson optimization of the
-// weighted content with 2-3, 3-2, 4-4 (and hull 2-2) flips, on the
-// dimension-generic core with its parallel slab schedule (core/lawson.hpp)
-// -> scan conversion of the piecewise-linear field at the output
-// resolution (rasterizer3.hpp).
+// (CGAL's, repeated per cube: core/grid_delaunay.hpp) -> generalized Lawson
+// optimization of the weighted content with 2-3, 3-2, 4-4 (and hull 2-2)
+// flips, on the dimension-generic core with its parallel slab schedule
+// (core/lawson.hpp), driven by all channels at once (one mesh; the costs
+// sum over channels, at most core::max_cost_channels) -> scan conversion of
+// the piecewise-linear field of every channel at the output resolution
+// (core/scan_convert.hpp). The classic resamplers work channel by channel.
 //
 // Output voxel (X, Y, Z) samples the field at ((X + 0.5) / sx, ...), with
 // s = n_out / n_in per axis; outside the samples' hull (the half-voxel rim)

@@ -189,3 +189,83 @@ TEST_CASE("check_volume_output_path: refuses the input, other extensions and mis
   CHECK_THROWS_AS(parse_sample_type("rgb"), Error);
   CHECK_THROWS_AS(parse_encoding("zip"), Error);
 }
+
+TEST_CASE("read_volume / write_volume: a leading RGB-color axis is the channels; kinds and geometry are kept") {
+  TempDir dir;
+  const std::size_t C = 3, nx = 4, ny = 5, nz = 6;
+  std::vector<float> data(C * nx * ny * nz);
+  for (std::size_t i = 0; i < data.size(); ++i) data[i] = static_cast<float>(i % 97) / 4;
+  {
+    Nrrd* n = nrrdNew();
+    REQUIRE(nrrdWrap_va(n, data.data(), nrrdTypeFloat, 4, C, nx, ny, nz) == 0);
+    n->space = nrrdSpaceRightAnteriorSuperior;
+    n->spaceDim = 3;
+    n->axis[0].kind = nrrdKindRGBColor;
+    for (int d = 0; d < 3; ++d) n->axis[0].spaceDirection[d] = AIR_NAN;
+    for (int a = 1; a < 4; ++a) {
+      n->axis[a].kind = nrrdKindSpace;
+      for (int d = 0; d < 3; ++d) n->axis[a].spaceDirection[d] = a - 1 == d ? 0.5 * a : 0.0;
+    }
+    n->spaceOrigin[0] = 10, n->spaceOrigin[1] = -5, n->spaceOrigin[2] = 1;
+    REQUIRE(nrrdSave((dir / "rgb.nrrd").c_str(), n, nullptr) == 0);
+    nrrdNix(n);  // the data stays ours
+  }
+  const VolumeFile in = read_volume(dir / "rgb.nrrd");
+  REQUIRE(in.volume.channels == 3);
+  CHECK(in.volume.nx == 4);
+  CHECK(in.volume.ny == 5);
+  CHECK(in.volume.nz == 6);
+  CHECK(in.volume.voxels == data);
+  CHECK(in.volume.at(1, 2, 3, 2) == data[((3 * ny + 2) * nx + 1) * C + 2]);
+
+  Volume big(8, 10, 6, 3, 0.0f);
+  for (std::size_t i = 0; i < big.voxels.size(); ++i) big.voxels[i] = static_cast<float>(i % 13);
+  write_volume(dir / "big.nrrd", big, in.type, VolumeEncoding::gzip, in.header.get());
+  Nrrd* n = nrrdNew();
+  REQUIRE(nrrdLoad(n, (dir / "big.nrrd").c_str(), nullptr) == 0);
+  CHECK(n->dim == 4);
+  CHECK(n->axis[0].size == 3);
+  CHECK(n->axis[0].kind == nrrdKindRGBColor);
+  CHECK(n->axis[1].kind == nrrdKindSpace);
+  CHECK(n->axis[1].spaceDirection[0] == doctest::Approx(0.25));  // x2
+  CHECK(n->axis[3].spaceDirection[2] == doctest::Approx(1.5));    // x1
+  CHECK(n->spaceOrigin[0] == doctest::Approx(10 - 0.25 * 0.5));
+  CHECK(n->spaceOrigin[2] == doctest::Approx(1.0));
+  nrrdNuke(n);
+  const VolumeFile back = read_volume(dir / "big.nrrd");
+  CHECK(back.volume.channels == 3);
+  CHECK(back.volume.voxels == big.voxels);
+  CHECK_THROWS_AS(write_volume(dir / "one.nrrd", Volume(8, 10, 6), in.type, VolumeEncoding::raw, in.header.get()),
+                  Error);  // another number of channels than the input's
+}
+
+TEST_CASE("read_volume / write_volume: a 3-vector slice, and channels written without an input header") {
+  TempDir dir;
+  {
+    std::ofstream(dir / "vec.nrrd") << "NRRD0004\ntype: float\ndimension: 3\nsizes: 3 2 2\nkinds: 3-vector domain "
+                                       "domain\nencoding: ascii\n\n1 2 3 4 5 6 7 8 9 10 11 12\n";
+  }
+  const VolumeFile v = read_volume(dir / "vec.nrrd");
+  CHECK(v.volume.channels == 3);
+  CHECK(v.volume.nx == 2);
+  CHECK(v.volume.ny == 2);
+  CHECK(v.volume.nz == 1);
+  CHECK(v.volume.at(1, 1, 0, 2) == 12);
+  write_volume(dir / "vec2.nrrd", v.volume, v.type, VolumeEncoding::raw, v.header.get());
+  Nrrd* n = nrrdNew();
+  REQUIRE(nrrdLoad(n, (dir / "vec2.nrrd").c_str(), nullptr) == 0);
+  CHECK(n->dim == 3);
+  CHECK(n->axis[0].kind == nrrdKind3Vector);
+  nrrdNuke(n);
+
+  Volume two(3, 2, 2, 2, 0.5f);
+  write_volume(dir / "two.nhdr", two, VolumeSampleType::float32, VolumeEncoding::raw);
+  n = nrrdNew();
+  REQUIRE(nrrdLoad(n, (dir / "two.nhdr").c_str(), nullptr) == 0);
+  CHECK(n->dim == 4);
+  CHECK(n->axis[0].kind == nrrdKindVector);
+  nrrdNuke(n);
+  const VolumeFile back = read_volume(dir / "two.nhdr");
+  CHECK(back.volume.channels == 2);
+  CHECK(back.volume.voxels == two.voxels);
+}

@@ -82,12 +82,13 @@ TEST_CASE("read_volume: the header's voxel count is checked before the data file
                            .c_str(),
                        Error);
   options.max_voxels = 120;
-  int seen[3] = {0, 0, 0};
-  options.check = [&](int nx, int ny, int nz) { seen[0] = nx, seen[1] = ny, seen[2] = nz; };
+  int seen[4] = {0, 0, 0, 0};
+  options.check = [&](int nx, int ny, int nz, int channels) { seen[0] = nx, seen[1] = ny, seen[2] = nz, seen[3] = channels; };
   const VolumeFile file = read_volume(dir / "v.nhdr", options);
   CHECK(seen[0] == 4);
   CHECK(seen[1] == 5);
   CHECK(seen[2] == 6);
+  CHECK(seen[3] == 1);
   CHECK(file.volume.voxel_count() == 120);
 }
 

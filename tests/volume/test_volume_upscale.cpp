@@ -220,3 +220,100 @@ TEST_CASE("isosurface_view: a ball is a lit disc in the middle and background at
   CHECK(row.width == 4 + 2 * (16 + 4));
   CHECK(row.height == 4 + 16 + 4);
 }
+
+namespace {
+
+// Three channels, each a different linear function (channel c of voxel
+// (x, y, z) at its centre).
+double channel_linear(double x, double y, double z, int c) {
+  return c == 0 ? linear(x, y, z) : c == 1 ? 1.0 - 0.02 * x + 0.06 * z : -0.5 + 0.01 * x + 0.04 * y + 0.03 * z;
+}
+
+Volume three_channels(int nx, int ny, int nz) {
+  Volume v(nx, ny, nz, 3, 0.0f);
+  for (int z = 0; z < nz; ++z)
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x)
+        for (int c = 0; c < 3; ++c) v.at(x, y, z, c) = static_cast<float>(channel_linear(x + 0.5, y + 0.5, z + 0.5, c));
+  return v;
+}
+
+}  // namespace
+
+TEST_CASE("upscale_volume: three channels, each linear, are reproduced by every method") {
+  const Volume in = three_channels(6, 5, 7);
+  for (const std::string& m : volume_upscale_methods()) {
+    CAPTURE(m);
+    const Volume out = upscale_volume(in, 15, 12, 17, method(m));
+    REQUIRE(out.channels == 3);
+    REQUIRE(out.voxels.size() == out.voxel_count() * 3);
+    double worst = 0;
+    const double margin = m == "tricubic" ? 2.0 : 0.0;
+    for (int Z = 0; Z < out.nz; ++Z)
+      for (int Y = 0; Y < out.ny; ++Y)
+        for (int X = 0; X < out.nx; ++X) {
+          const double p[3] = {(X + 0.5) * 6 / 15, (Y + 0.5) * 5 / 12, (Z + 0.5) * 7 / 17};
+          const int n[3] = {6, 5, 7};
+          bool skip = false;
+          for (int a = 0; a < 3; ++a) skip = skip || p[a] < margin || p[a] > n[a] - margin;
+          if (skip) continue;
+          for (int c = 0; c < 3; ++c)
+            worst = std::max(worst, std::abs(out.at(X, Y, Z, c) - channel_linear(std::clamp(p[0], 0.5, 5.5),
+                                                                                   std::clamp(p[1], 0.5, 4.5),
+                                                                                   std::clamp(p[2], 0.5, 6.5), c)));
+        }
+    CHECK(worst < 2e-6);
+  }
+}
+
+TEST_CASE("upscale_volume: every channel's samples are reproduced bit for bit at coinciding positions (x3)") {
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  Volume in(5, 4, 6, 2, 0.0f);
+  for (float& v : in.voxels) v = u(rng);
+  VolumeUpscaleStats st;
+  const Volume out = upscale_volume(in, 15, 12, 18, method("ddt"), &st);
+  CHECK(st.flips.total() > 0);
+  int mismatches = 0;
+  for (int z = 0; z < in.nz; ++z)
+    for (int y = 0; y < in.ny; ++y)
+      for (int x = 0; x < in.nx; ++x)
+        for (int c = 0; c < 2; ++c) mismatches += out.at(3 * x + 1, 3 * y + 1, 3 * z + 1, c) != in.at(x, y, z, c);
+  CHECK(mismatches == 0);
+}
+
+TEST_CASE("upscale_volume: every channel drives the flips (a constant channel beside the sphere changes nothing)") {
+  const Volume sphere = sample_field(find_volume_field("sphere"), 10, 10, 10, 4);
+  for (const int data_channel : {0, 1}) {
+    CAPTURE(data_channel);
+    Volume two(10, 10, 10, 2, 0.25f);
+    set_volume_channel(two, data_channel, sphere);
+    VolumeUpscaleStats one_stats, two_stats;
+    const Volume alone = upscale_volume(sphere, 25, 25, 25, method("ddt"), &one_stats);
+    const Volume both = upscale_volume(two, 25, 25, 25, method("ddt"), &two_stats);
+    CHECK(two_stats.flips.total() == one_stats.flips.total());
+    CHECK(one_stats.flips.total() > 0);
+    CHECK(volume_channel(both, data_channel).voxels == alone.voxels);
+    const Volume constant = volume_channel(both, 1 - data_channel);
+    CHECK(std::all_of(constant.voxels.begin(), constant.voxels.end(), [](float v) { return v == 0.25f; }));
+  }
+}
+
+TEST_CASE("upscale_volume: a single slice of several channels goes through the 2D method, all channels at once") {
+  const Volume in = three_channels(6, 5, 1);
+  const Volume out = upscale_volume(in, 12, 10, 3, method("ddt"));
+  REQUIRE(out.channels == 3);
+  Image img(6, 5, 3);
+  for (int y = 0; y < 5; ++y)
+    for (int x = 0; x < 6; ++x)
+      for (int c = 0; c < 3; ++c) img.at(x, y, c) = in.at(x, y, 0, c);
+  UpscaleOptions o;
+  o.cost = "variance";
+  const Image flat = upscale(img, 12, 10, o);
+  int mismatches = 0;
+  for (int Z = 0; Z < 3; ++Z)
+    for (int Y = 0; Y < 10; ++Y)
+      for (int X = 0; X < 12; ++X)
+        for (int c = 0; c < 3; ++c) mismatches += out.at(X, Y, Z, c) != flat.at(X, Y, c);
+  CHECK(mismatches == 0);
+}

@@ -1,0 +1,526 @@
+#include "core/scan_convert.hpp"
+
+#include "core/predicates.hpp"
+#include "util/error.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <map>
+#include <string>
+
+namespace ddt::core {
+namespace {
+
+// Error-free transformations (Knuth's TwoSum, FMA TwoProduct): true when
+// x op y was computed without rounding.
+bool exact_sum(double x, double y, double sum) {
+  const double yv = sum - x, xv = sum - yv;
+  return (x - xv) + (y - yv) == 0;
+}
+bool exact_product(double x, double y, double product) { return std::fma(x, y, -product) == 0; }
+
+// det of an N x N matrix by cofactor expansion along row 0, plain double:
+// exact when the entries are small integers (lattice points' differences).
+template <int N>
+double cofactor_det(const std::array<std::array<double, N>, N>& m) {
+  if constexpr (N == 0) {
+    return 1;
+  } else if constexpr (N == 1) {
+    return m[0][0];
+  } else if constexpr (N == 2) {
+    return m[0][0] * m[1][1] - m[0][1] * m[1][0];
+  } else {
+    double det = 0;
+    for (int j = 0; j < N; ++j) {
+      std::array<std::array<double, N - 1>, N - 1> minor;
+      for (int r = 1; r < N; ++r)
+        for (int c = 0, n = 0; c < N; ++c)
+          if (c != j) minor[r - 1][n++] = m[r][c];
+      const double term = m[0][j] * cofactor_det<N - 1>(minor);
+      det = j % 2 == 0 ? det + term : det - term;
+    }
+    return det;
+  }
+}
+
+// The generalized cross product n of D - 1 vectors: n . w = det[v_1; ...;
+// v_(D-1); w] for every w (D = 3: v_1 x v_2).
+template <int D>
+Vec<D> normal_of(const std::array<Vec<D>, D - 1>& v) {
+  Vec<D> n;
+  for (int k = 0; k < D; ++k) {
+    std::array<std::array<double, D - 1>, D - 1> minor;
+    for (int r = 0; r < D - 1; ++r)
+      for (int c = 0, m = 0; c < D; ++c)
+        if (c != k) minor[r][m++] = v[r][c];
+    const double d = cofactor_det<D - 1>(minor);
+    n[k] = (D - 1 + k) % 2 == 0 ? d : -d;
+  }
+  return n;
+}
+
+// What scanning one simplex needs: facet i is opposite vertex i, raw[i]
+// its inward normal from cofactors (exact on lattices), unit[i] and off[i]
+// the floating-point distance unit[i] . q + off[i] (>= 0 inside).
+template <int D>
+struct CellSetup {
+  std::array<Vec<D>, D + 1> p;
+  std::array<Vec<D>, D + 1> raw;
+  std::array<Vec<D>, D + 1> unit;
+  std::array<double, D + 1> off;
+  std::array<double, D + 1> den;  // raw[i] . (p_i - p_0), i >= 1
+  Vec<D> lo, hi;                  // bounding box
+};
+
+// Orientation of the cell's facets, from the mesh invariant (cells are
+// positive): with base b = (i == 0 ? 1 : 0) and the edges p_j - p_b in
+// increasing j (j != i, b), det[edges; p_i - p_b] has the sign
+// (-1)^(D - i) for i >= 1 and (-1)^D for i = 0 (a cyclic shift).
+template <int D>
+void setup_cell(CellSetup<D>& s) {
+  for (int i = 0; i <= D; ++i) {
+    const int base = i == 0 ? 1 : 0;
+    std::array<Vec<D>, D - 1> edges;
+    int n = 0;
+    for (int j = 0; j <= D; ++j) {
+      if (j == i || j == base) continue;
+      for (int k = 0; k < D; ++k) edges[n][k] = s.p[j][k] - s.p[base][k];
+      ++n;
+    }
+    Vec<D> raw = normal_of<D>(edges);
+    const bool negative = ((i == 0 ? D : D - i) % 2) != 0;
+    if (negative)
+      for (double& x : raw) x = -x;
+    s.raw[i] = raw;
+    double len = 0;
+    for (double x : raw) len += x * x;
+    len = std::sqrt(len);
+    s.off[i] = 0;
+    for (int k = 0; k < D; ++k) {
+      s.unit[i][k] = raw[k] / len;
+      s.off[i] -= s.unit[i][k] * s.p[base][k];
+    }
+    if (i >= 1) {
+      s.den[i] = 0;
+      for (int k = 0; k < D; ++k) s.den[i] += raw[k] * (s.p[i][k] - s.p[0][k]);
+    }
+  }
+}
+
+// The sign of n . (q - a) when every step is exact (then +1, -1 or a true
+// 0); false when some step rounded.
+template <int D>
+[[gnu::always_inline]] inline bool exact_dot_sign(const Vec<D>& n, const Vec<D>& q, const Vec<D>& a, int& sign) {
+  double sum = 0;
+  for (int k = 0; k < D; ++k) {
+    const double d = q[k] - a[k];
+    if (!exact_sum(q[k], -a[k], d)) return false;
+    const double prod = n[k] * d;
+    const double next = sum + prod;
+    if (!exact_product(n[k], d, prod) || !exact_sum(sum, prod, next)) return false;
+    sum = next;
+  }
+  sign = sum > 0 ? 1 : sum < 0 ? -1 : 0;
+  return true;
+}
+
+// facet_side by CGAL's exact predicates: the cell with q in place of
+// vertex i, as orient<D> reads it with q moved to the end (D - i
+// transpositions).
+template <int D>
+[[gnu::noinline]] int exact_facet_side(const CellSetup<D>& s, int i, const Vec<D>& q) {
+  std::array<Vec<D>, D + 1> pts;
+  for (int j = 0, n = 0; j <= D; ++j)
+    if (j != i) pts[n++] = s.p[j];
+  pts[D] = q;
+  const int o = perturbed_orient<D>(pts);
+  return (D - i) % 2 == 0 ? o : -o;
+}
+
+// Which side of facet i the sample q lies on, never 0 (the perturbation of
+// q by (e, e^2, ..., e^D) decides ties): +1 towards vertex i.
+template <int D>
+[[gnu::always_inline]] inline int facet_side(const CellSetup<D>& s, int i, const Vec<D>& q, double tol, bool lattice) {
+  double d = s.off[i];
+  for (int k = 0; k < D; ++k) d += s.unit[i][k] * q[k];
+  if (d > tol) return 1;
+  if (d < -tol) return -1;
+  int sign = 0;
+  if (lattice && exact_dot_sign<D>(s.raw[i], q, s.p[i == 0 ? 1 : 0], sign)) {
+    if (sign != 0) return sign;
+    for (int k = 0; k < D; ++k)  // raw[i] is the exact gradient of the side's determinant
+      if (s.raw[i][k] != 0) return s.raw[i][k] > 0 ? 1 : -1;
+  }
+  return exact_facet_side<D>(s, i, q);
+}
+
+template <int D>
+[[gnu::always_inline]] inline bool inside(const CellSetup<D>& s, const Vec<D>& q, double tol, bool lattice) {
+  for (int i = 0; i <= D; ++i)
+    if (facet_side<D>(s, i, q, tol, lattice) <= 0) return false;
+  return true;
+}
+
+// The points of a section (at most the crossings of the vertex pairs of
+// the previous section; 16 covers D <= 4).
+template <int D>
+struct Section {
+  std::array<Vec<D>, 16> p;
+  int n = 0;
+};
+
+// Everything the scan of one cell reads.
+template <int D>
+struct Scan {
+  const ScanGrid<D>& grid;
+  const std::array<std::vector<double>, D>& coord;  // sample positions per axis
+  std::array<std::size_t, D> stride;                // of the output, in samples
+  double tol;
+  bool lattice;
+  int K;
+  float* out;
+  unsigned char* hits;
+
+  // Indices of the window's samples along `axis` whose coordinate may lie
+  // in [lo, hi].
+  void index_range(int axis, double lo, double hi, int& first, int& last) const {
+    const double scale = grid.scale[axis];
+    first = std::max(0, static_cast<int>(std::ceil((lo - tol) * scale - 0.5)) - grid.first[axis]);
+    last = std::min(grid.size[axis] - 1, static_cast<int>(std::floor((hi + tol) * scale - 0.5)) - grid.first[axis]);
+  }
+};
+
+// The section of the point set `from` by the hyperplane x_axis = c.
+template <int D>
+void cut(const Vec<D>* from, int n, int axis, double c, Section<D>& to) {
+  to.n = 0;
+  for (int i = 0; i < n; ++i) {
+    const double di = from[i][axis] - c;
+    if (di == 0) {
+      to.p[to.n++] = from[i];
+      continue;
+    }
+    for (int j = i + 1; j < n; ++j) {
+      const double dj = from[j][axis] - c;
+      if ((di > 0 && dj < 0) || (di < 0 && dj > 0)) {
+        const double t = di / (di - dj);
+        Vec<D>& q = to.p[to.n++];
+        for (int k = 0; k < D; ++k) q[k] = from[i][k] + t * (from[j][k] - from[i][k]);
+        q[axis] = c;
+      }
+    }
+  }
+}
+
+// Writes samples X0..X1 of a row, all owned by the cell. Channels: the
+// compile-time count (1: scalars) or 0 for scan.K.
+template <int D, int Channels>
+void interpolate_row(const Scan<D>& scan, const CellSetup<D>& s, const double* z0, const double* dz, const Vec<D>& q,
+                     std::size_t row_base, int X0, int X1) {
+  const int K = Channels > 0 ? Channels : scan.K;
+  const std::vector<double>& xs = scan.coord[0];
+  Vec<D> pq;
+  for (int k = 1; k < D; ++k) pq[k] = q[k] - s.p[0][k];
+  for (int X = X0; X <= X1; ++X) {
+    pq[0] = xs[X] - s.p[0][0];
+    double w[D + 1];
+    for (int i = 1; i <= D; ++i) {
+      double dot = s.raw[i][0] * pq[0];
+      for (int k = 1; k < D; ++k) dot += s.raw[i][k] * pq[k];
+      w[i] = dot / s.den[i];
+    }
+    const std::size_t idx = row_base + X;
+    float* o = scan.out + idx * K;
+    for (int c = 0; c < K; ++c) {
+      double v = z0[c];
+      for (int i = 1; i <= D; ++i) v += w[i] * dz[(i - 1) * K + c];
+      o[c] = static_cast<float>(v);
+    }
+    std::atomic_ref<unsigned char>(scan.hits[idx]).fetch_add(1, std::memory_order_relaxed);
+  }
+}
+
+// One row along axis 0 at the fixed coordinates q[1..]: the floating-point
+// segment inside the cell, trimmed exactly at both ends (the owned samples
+// of a row are contiguous), then interpolated.
+template <int D>
+void scan_row(const Scan<D>& scan, const CellSetup<D>& s, const double* z0, const double* dz, Vec<D> q,
+              std::size_t row_base, int xb0, int xb1) {
+  double x_lo = s.lo[0], x_hi = s.hi[0];
+  for (int i = 0; i <= D; ++i) {
+    double rest = s.off[i];
+    for (int k = 1; k < D; ++k) rest += s.unit[i][k] * q[k];
+    const double nx = s.unit[i][0];
+    if (std::abs(nx) < 1e-12) {
+      if (rest < -scan.tol) return;
+    } else if (nx > 0) {
+      x_lo = std::max(x_lo, -rest / nx);
+    } else {
+      x_hi = std::min(x_hi, -rest / nx);
+    }
+  }
+  if (x_lo > x_hi + 2 * scan.tol) return;
+  int X0, X1;
+  scan.index_range(0, x_lo, x_hi, X0, X1);
+  X0 = std::max(X0, xb0);
+  X1 = std::min(X1, xb1);
+  const std::vector<double>& xs = scan.coord[0];
+  for (; X0 <= X1; ++X0) {
+    q[0] = xs[X0];
+    if (inside<D>(s, q, scan.tol, scan.lattice)) break;
+  }
+  for (; X1 >= X0; --X1) {
+    q[0] = xs[X1];
+    if (inside<D>(s, q, scan.tol, scan.lattice)) break;
+  }
+  if (X0 > X1) return;
+  if (scan.K == 1)
+    interpolate_row<D, 1>(scan, s, z0, dz, q, row_base, X0, X1);
+  else
+    interpolate_row<D, 0>(scan, s, z0, dz, q, row_base, X0, X1);
+}
+
+// The samples along axis L (>= 1) of the section `sec` (the vertices for
+// L = D - 1), each one's row or sub-section in turn.
+template <int D, int L>
+void scan_level(const Scan<D>& scan, const CellSetup<D>& s, const double* z0, const double* dz, const Vec<D>* sec,
+                int n, Vec<D> q, std::size_t base, const std::array<int, D>& box_first,
+                const std::array<int, D>& box_last) {
+  double lo = INFINITY, hi = -INFINITY;
+  for (int i = 0; i < n; ++i) lo = std::min(lo, sec[i][L]), hi = std::max(hi, sec[i][L]);
+  int I0 = box_first[L], I1 = box_last[L];
+  if (lo <= hi) {
+    int a, b;
+    scan.index_range(L, lo, hi, a, b);
+    I0 = std::max(I0, a), I1 = std::min(I1, b);
+  }
+  for (int I = I0; I <= I1; ++I) {
+    q[L] = scan.coord[L][I];
+    const std::size_t next = base + I * scan.stride[L];
+    if constexpr (L == 1) {
+      scan_row<D>(scan, s, z0, dz, q, next, box_first[0], box_last[0]);
+    } else {
+      Section<D> cross;
+      cut<D>(sec, n, L, q[L], cross);
+      scan_level<D, L - 1>(scan, s, z0, dz, cross.p.data(), cross.n, q, next, box_first, box_last);
+    }
+  }
+}
+
+// The hull box's faces: 2D of them, face 2 axis + side (0 min, 1 max);
+// each as the field of its hull facets over the window's in-plane samples.
+template <int D>
+std::vector<std::vector<float>> render_box_faces(const SimplexMesh<D>& mesh, const std::vector<float>& values, int K,
+                                                 const ScanGrid<D>& grid, const Vec<D>& lo, const Vec<D>& hi) {
+  std::vector<std::vector<float>> faces(2 * D);
+  if constexpr (D == 1) {
+    // The faces of a segment's box are its end points: their values.
+    for (const auto& v : mesh.cell)
+      for (int side = 0; side < 2; ++side)
+        if (v != no_vertex && mesh.points[v][0] == (side ? hi[0] : lo[0]) && faces[side].empty())
+          faces[side].assign(values.begin() + static_cast<std::ptrdiff_t>(v) * K,
+                             values.begin() + static_cast<std::ptrdiff_t>(v + 1) * K);
+  } else {
+    std::vector<std::vector<CellVertices<D - 1>>> facets(2 * D);
+    for (index_t c = 0; c < mesh.slot_count(); ++c) {
+      if (!mesh.is_live(c)) continue;
+      for (int i = 0; i <= D; ++i) {
+        if (mesh.opp[(D + 1) * static_cast<std::size_t>(c) + i] != no_facet) continue;
+        CellVertices<D - 1> f;
+        for (int j = 0, n = 0; j <= D; ++j)
+          if (j != i) f[n++] = mesh.vertex(c, j);
+        int which = -1;
+        for (int axis = 0; axis < D && which < 0; ++axis)
+          for (int side = 0; side < 2 && which < 0; ++side) {
+            const double plane = side ? hi[axis] : lo[axis];
+            bool on = true;
+            for (index_t v : f) on = on && mesh.points[v][axis] == plane;
+            if (on) which = 2 * axis + side;
+          }
+        if (which < 0) throw Error("scan_convert: the mesh's hull is not an axis-aligned box");
+        facets[which].push_back(f);
+      }
+    }
+    for (int which = 0; which < 2 * D; ++which) {
+      const int axis = which / 2;
+      if (facets[which].empty()) throw Error("scan_convert: the mesh's hull is not an axis-aligned box");
+      std::map<index_t, index_t> local;
+      std::vector<Vec<D - 1>> points;
+      std::vector<float> face_values;
+      for (CellVertices<D - 1>& f : facets[which])
+        for (index_t& id : f) {
+          auto [it, fresh] = local.emplace(id, static_cast<index_t>(points.size()));
+          if (fresh) {
+            Vec<D - 1> p;
+            for (int k = 0, n = 0; k < D; ++k)
+              if (k != axis) p[n++] = mesh.points[id][k];
+            points.push_back(p);
+            face_values.insert(face_values.end(), values.begin() + static_cast<std::ptrdiff_t>(id) * K,
+                               values.begin() + static_cast<std::ptrdiff_t>(id + 1) * K);
+          }
+          id = it->second;
+        }
+      const SimplexMesh<D - 1> face = mesh_from_cells<D - 1>(std::move(points), facets[which]);
+      ScanGrid<D - 1> g;
+      for (int k = 0, n = 0; k < D; ++k)
+        if (k != axis) g.size[n] = grid.size[k], g.scale[n] = grid.scale[k], g.first[n] = grid.first[k], ++n;
+      faces[which] = scan_convert<D - 1>(face, face_values, K, g);
+    }
+  }
+  return faces;
+}
+
+}  // namespace
+
+template <int D>
+std::vector<float> scan_convert(const SimplexMesh<D>& mesh, const std::vector<float>& values, int K,
+                                const ScanGrid<D>& grid, ScanStats* stats) {
+  if (K < 1) throw Error("scan_convert: at least one channel is needed");
+  if (values.size() != mesh.points.size() * static_cast<std::size_t>(K))
+    throw Error("scan_convert: the values do not match the mesh's points and channels");
+  if (mesh.cell_count() == 0) throw Error("scan_convert: the mesh has no cells");
+  for (int k = 0; k < D; ++k)
+    if (grid.size[k] < 0 || !(grid.scale[k] > 0)) throw Error("scan_convert: bad grid");
+  ScanStats local;
+  Vec<D> lo, hi;
+  lo.fill(INFINITY);
+  hi.fill(-INFINITY);
+  for (index_t c = 0; c < mesh.slot_count(); ++c) {
+    if (!mesh.is_live(c)) continue;
+    ++local.cells;
+    for (int i = 0; i <= D; ++i)
+      for (int k = 0; k < D; ++k) {
+        const double x = mesh.points[mesh.vertex(c, i)][k];
+        lo[k] = std::min(lo[k], x), hi[k] = std::max(hi[k], x);
+      }
+  }
+  const std::vector<std::vector<float>> faces = render_box_faces<D>(mesh, values, K, grid, lo, hi);
+
+  std::array<std::vector<double>, D> coord;
+  std::array<std::size_t, D> stride;
+  double extent = 1, magnitude = 0;
+  for (int k = 0; k < D; ++k) {
+    coord[k].resize(grid.size[k]);
+    for (int X = 0; X < grid.size[k]; ++X) coord[k][X] = (grid.first[k] + X + 0.5) / grid.scale[k];
+    stride[k] = k == 0 ? 1 : stride[k - 1] * grid.size[k - 1];
+    extent = std::max(extent, hi[k] - lo[k]);
+    magnitude += std::abs(lo[k]);
+  }
+  const std::size_t count = grid.count();
+  std::vector<float> out(count * K, 0.0f);
+  std::vector<unsigned char> hits(count, 0);
+  const Scan<D> scan{grid, coord, stride, 1e-9 * (extent + magnitude), lattice_exact<D>(mesh.points), K,
+                     out.data(), hits.data()};
+
+  if (count > 0)
+    tbb::parallel_for(tbb::blocked_range<index_t>(0, mesh.slot_count(), 256), [&](const tbb::blocked_range<index_t>& r) {
+      std::vector<double> z0(K), dz(static_cast<std::size_t>(D) * K);
+      for (index_t c = r.begin(); c != r.end(); ++c) {
+        if (!mesh.is_live(c)) continue;
+        CellSetup<D> s;
+        for (int i = 0; i <= D; ++i) s.p[i] = mesh.points[mesh.vertex(c, i)];
+        for (int k = 0; k < D; ++k) {
+          s.lo[k] = s.hi[k] = s.p[0][k];
+          for (int i = 1; i <= D; ++i) s.lo[k] = std::min(s.lo[k], s.p[i][k]), s.hi[k] = std::max(s.hi[k], s.p[i][k]);
+        }
+        std::array<int, D> first, last;
+        bool empty = false;
+        for (int k = 0; k < D; ++k) {
+          scan.index_range(k, s.lo[k], s.hi[k], first[k], last[k]);
+          empty = empty || first[k] > last[k];
+        }
+        if (empty) continue;
+        setup_cell<D>(s);
+        for (int ch = 0; ch < K; ++ch) {
+          z0[ch] = values[static_cast<std::size_t>(mesh.vertex(c, 0)) * K + ch];
+          for (int i = 1; i <= D; ++i)
+            dz[(i - 1) * K + ch] = double(values[static_cast<std::size_t>(mesh.vertex(c, i)) * K + ch]) - z0[ch];
+        }
+        Vec<D> q{};
+        if constexpr (D == 1)
+          scan_row<D>(scan, s, z0.data(), dz.data(), q, 0, first[0], last[0]);
+        else
+          scan_level<D, D - 1>(scan, s, z0.data(), dz.data(), s.p.data(), D + 1, q, 0, first, last);
+      }
+    });
+
+  // Samples no simplex owns: outside the hull (or on it) -> the face value
+  // at the clamped position.
+  const int slowest = D - 1;
+  std::atomic<long long> owned{0}, rim{0}, uncovered{0}, overcovered{0};
+  const std::size_t per_slice = count / std::max(1, grid.size[slowest]);
+  tbb::parallel_for(0, grid.size[slowest], [&](int Z) {
+    long long n_owned = 0, n_rim = 0, n_uncovered = 0, n_over = 0;
+    std::array<int, D> index{};
+    index[slowest] = Z;
+    for (std::size_t j = 0; j < per_slice; ++j) {
+      const std::size_t idx = Z * per_slice + j;
+      for (int k = 0, rest = static_cast<int>(j); k < slowest; ++k) index[k] = rest % grid.size[k], rest /= grid.size[k];
+      if (hits[idx] == 1) {
+        ++n_owned;
+        continue;
+      }
+      if (hits[idx] > 1) {
+        ++n_over;
+        continue;
+      }
+      int which = -1;
+      for (int axis = 0; axis < D && which < 0; ++axis) {
+        const double x = coord[axis][index[axis]];
+        if (x <= lo[axis]) which = 2 * axis;
+        else if (x >= hi[axis]) which = 2 * axis + 1;
+      }
+      if (which < 0) {
+        ++n_uncovered;
+        continue;
+      }
+      const int axis = which / 2;
+      std::size_t face_index = 0, face_stride = 1;
+      for (int k = 0; k < D; ++k)
+        if (k != axis) face_index += index[k] * face_stride, face_stride *= grid.size[k];
+      for (int ch = 0; ch < K; ++ch) out[idx * K + ch] = faces[which][face_index * K + ch];
+      ++n_rim;
+    }
+    owned += n_owned, rim += n_rim, uncovered += n_uncovered, overcovered += n_over;
+  });
+  local.owned = owned;
+  local.rim = rim;
+  local.uncovered = uncovered;
+  local.overcovered = overcovered;
+  if (local.uncovered > 0) {
+    // Only slivers collapsed by rounding could leave a hole: copy the
+    // neighbour along axis 0.
+    for (std::size_t idx = 0; idx < count; ++idx) {
+      if (hits[idx] != 0) continue;
+      std::size_t rest = idx;
+      bool in = true;
+      int X0 = 0;
+      for (int k = 0; k < D; ++k) {
+        const int I = static_cast<int>(rest % grid.size[k]);
+        rest /= grid.size[k];
+        if (k == 0) X0 = I;
+        in = in && coord[k][I] > lo[k] && coord[k][I] < hi[k];
+      }
+      if (!in || grid.size[0] < 2) continue;
+      const std::size_t from = X0 > 0 ? idx - 1 : idx + 1;
+      for (int ch = 0; ch < K; ++ch) out[idx * K + ch] = out[from * K + ch];
+    }
+  }
+  if (stats) *stats = local;
+  return out;
+}
+
+template std::vector<float> scan_convert<1>(const SimplexMesh<1>&, const std::vector<float>&, int, const ScanGrid<1>&,
+                                            ScanStats*);
+template std::vector<float> scan_convert<2>(const SimplexMesh<2>&, const std::vector<float>&, int, const ScanGrid<2>&,
+                                            ScanStats*);
+template std::vector<float> scan_convert<3>(const SimplexMesh<3>&, const std::vector<float>&, int, const ScanGrid<3>&,
+                                            ScanStats*);
+template std::vector<float> scan_convert<4>(const SimplexMesh<4>&, const std::vector<float>&, int, const ScanGrid<4>&,
+                                            ScanStats*);
+
+}  // namespace ddt::core
