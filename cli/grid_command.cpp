@@ -12,6 +12,7 @@
 #include "scattered/point_table.hpp"
 #include "util/size_limits.hpp"
 #include "pipeline/upscale.hpp"
+#include "util/timing.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -26,9 +27,7 @@
 
 namespace {
 
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
+using ddt::seconds_since;
 
 std::string lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));

@@ -17,6 +17,7 @@
 #include "util/progress.hpp"
 #include "util/size_limits.hpp"
 #include "pipeline/upscale.hpp"
+#include "util/timing.hpp"
 
 #include <CLI/CLI.hpp>
 #include <OpenImageIO/imageio.h>
@@ -61,9 +62,7 @@ struct Arguments {
   std::string mesh_roi;   // x,y,w,h
 };
 
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
+using ddt::seconds_since;
 
 // Output size from --scale / --width / --height; throws ddt::Error.
 void output_size(const Arguments& args, int in_w, int in_h, int& out_w, int& out_h) {

@@ -14,6 +14,8 @@
 
 #include "consistency/acquisition_model.hpp"
 #include "image/annealing.hpp"
+#include "image/mesh.hpp"
+#include "pipeline/stages.hpp"
 #include "util/image.hpp"
 #include "util/progress.hpp"
 
@@ -70,12 +72,10 @@ struct UpscaleOptions {
 std::vector<std::string> render_names();
 void check_render_name(const std::string& name);
 
-struct UpscaleStats {
-  int iterations = 0;
-  long long flips = 0;
+// The stage seconds and the optimizer's summary (iterations, flips, cost
+// before and after; stages.hpp), and what is the image pipeline's own.
+struct UpscaleStats : StageSeconds, OptimizerSummary<long long> {
   long long triangles = 0;
-  double cost_before = 0, cost_after = 0;
-  double seconds_triangulate = 0, seconds_optimize = 0, seconds_render = 0;
   long long tests = 0;   // edge tests of the optimizer
   int regions = 1;       // optimizer regions (of the first tile)
   int tiles = 1;         // bands the image was processed in
@@ -90,6 +90,12 @@ struct UpscaleStats {
 // Enlarges `src` to out_width x out_height (each >= 1).
 Image upscale(const Image& src, int out_width, int out_height, const UpscaleOptions& options = {},
               UpscaleStats* stats = nullptr);
+
+// The mesh stage of upscale(), untiled: the Delaunay triangulation of the
+// pixel centres (vertex y * width + x at (x + 0.5, y + 0.5)) after the flips
+// `options` asks for; what upscale() renders when it does not tile. Logs
+// and tells the progress as upscale() does. Throws ddt::Error as upscale().
+Mesh2 upscale_mesh(const Image& src, const UpscaleOptions& options = {}, UpscaleStats* stats = nullptr);
 
 // One band of the enlargement, for callers that split an image themselves
 // (Dask blocks, python/ddtscale/dask.py): output rows

@@ -31,6 +31,7 @@
 #include "image/annealing.hpp"
 #include "util/image.hpp"
 #include "image/mesh.hpp"
+#include "pipeline/stages.hpp"
 
 #include <functional>
 #include <limits>
@@ -70,16 +71,14 @@ struct GridOptions {
 inline constexpr int cost_channel_sum = -1;
 inline constexpr int cost_channel_luma = -2;
 
-struct GridStats {
+// The stage seconds and the optimizer's summary (pipeline/stages.hpp), and
+// what is the gridding's own.
+struct GridStats : StageSeconds, OptimizerSummary<long long> {
   GridBounds bounds;                    // the bounds used
   long long points = 0;                 // vertices of the mesh
   long long triangles = 0;
-  int iterations = 0;
-  long long flips = 0;
-  double cost_before = 0, cost_after = 0;
   long long inside_pixels = 0;          // pixels with data
   long long nodata_pixels = 0;          // pixels outside the hull
-  double seconds_triangulate = 0, seconds_optimize = 0, seconds_render = 0;
 };
 
 // Inputs:
