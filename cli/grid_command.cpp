@@ -125,9 +125,9 @@ int run_grid_command(int argc, char** argv) {
   std::string input, output, size_text, bounds_text, columns_text, input_nodata_text, nodata_text;
   std::string cost = ddt::GridOptions{}.cost, cost_channel = "sum";
   bool no_optimize = false, verbose = false, quiet = false;
-  std::string optimizer = "lawson";
+  std::string optimizer = ddt::to_string(ddt::GridOptions{}.optimizer);
   ddt::AnnealOptions anneal;
-  double tolerance = 1e-9;
+  double tolerance = ddt::GridOptions{}.relative_tolerance;
   long long max_pixels = ddt::default_max_pixels;
   ddt::PointReadOptions read_options;
   read_options.float_values = true;
@@ -223,7 +223,7 @@ int run_grid_command(int argc, char** argv) {
     options.cost_channel = parse_cost_channel(cost_channel, table);
     options.optimize = !no_optimize;
     options.relative_tolerance = tolerance;
-    options.optimizer = optimizer;
+    options.optimizer = ddt::optimizer_by_name(optimizer);
     options.anneal = anneal;
     if (verbose) options.log = log;
     {

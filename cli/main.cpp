@@ -35,28 +35,31 @@
 
 namespace {
 
+// The defaults are the library's (UpscaleOptions), named for the command line.
+const ddt::UpscaleOptions defaults;
+
 struct Arguments {
   std::string input, output;
   double scale = 0;
   bool scale_given = false;
   bool width_given = false, height_given = false;  // on the command line
   int width = 0, height = 0;
-  std::string cost = "sederberg";
-  std::string cost_channel = "sum";
-  bool no_optimize = false;
-  double tolerance = 1e-9;
+  std::string cost = defaults.cost;
+  std::string cost_channel = defaults.luma_cost ? "luma" : "sum";
+  bool no_optimize = !defaults.optimize;
+  double tolerance = defaults.relative_tolerance;
   long long max_pixels = ddt::default_max_pixels;
   long long max_input_pixels = ddt::default_max_input_pixels();
   bool verbose = false;
   bool quiet = false;
   int threads = 0;    // 0: all cores
-  int tile_rows = 0;  // 0: automatic, < 0: never
-  std::string optimizer = "lawson";
-  ddt::AnnealOptions anneal;  // --seed and the --anneal-* schedule
-  std::string render = "cubic";
-  std::string slopes = "mc4";
-  std::string model = "box";
-  bool no_step_edges = false;
+  int tile_rows = defaults.tile_rows;  // 0: automatic, < 0: never
+  std::string optimizer = ddt::to_string(defaults.optimizer);
+  ddt::AnnealOptions anneal = defaults.anneal;  // --seed and the --anneal-* schedule
+  std::string render = ddt::to_string(defaults.render);
+  std::string slopes = ddt::to_string(defaults.slopes);
+  std::string model = ddt::to_string(defaults.model);
+  bool no_step_edges = !defaults.step_edges;
   std::string compare;    // classic method shown left of DDT, or empty
   std::string mesh_view;  // path of the mesh drawing, or empty
   std::string mesh_roi;   // x,y,w,h
@@ -81,7 +84,7 @@ void output_size(const Arguments& args, int in_w, int in_h, int& out_w, int& out
 double image_job_bytes(const Arguments& args, const ddt::ImageHeader& header, int out_w, int out_h) {
   const double in_pixels = double(header.width) * header.height, out_pixels = double(out_w) * out_h;
   const double images = 4.0 * header.channels * (in_pixels + out_pixels * (args.compare.empty() ? 1 : 4));
-  const bool tiled = args.optimizer == "lawson" && args.tile_rows >= 0;
+  const bool tiled = ddt::optimizer_by_name(args.optimizer) == ddt::Optimizer::lawson && args.tile_rows >= 0;
   const double band = 200.0 * in_pixels;
   return images + (tiled ? std::min(band, 0.5 * double(ddt::physical_memory())) : band);
 }
@@ -117,7 +120,7 @@ int run_upscale(int argc, char** argv) {
       ->check(CLI::IsMember(ddt::render_names()))
       ->capture_default_str();
   app.add_option("--slopes", args.slopes, "cubic render: slope limiter of the vertex gradients: mc4, mc, central, minmod")
-      ->check(CLI::IsMember({"mc4", "mc", "central", "minmod"}))
+      ->check(CLI::IsMember(ddt::slope_limiter_names()))
       ->capture_default_str();
   app.add_option("--model", args.model,
                  "how an input pixel was made: box (its area's average, default), gauss:SIGMA (the area blurred "
@@ -291,12 +294,12 @@ int run_upscale(int argc, char** argv) {
     options.luma_cost = args.cost_channel == "luma";
     options.alpha_channel = file.alpha_channel;
     options.optimize = !args.no_optimize;
-    options.render = args.render;
-    options.slopes = args.slopes;
+    options.render = ddt::render_by_name(args.render);
+    options.slopes = ddt::slope_limiter_by_name(args.slopes);
     options.model = ddt::parse_acquisition_model(args.model);
     options.step_edges = !args.no_step_edges;
     options.relative_tolerance = args.tolerance;
-    options.optimizer = args.optimizer;
+    options.optimizer = ddt::optimizer_by_name(args.optimizer);
     options.anneal = args.anneal;
     if (args.verbose) options.log = log;
     options.progress = &progress;

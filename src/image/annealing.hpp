@@ -75,11 +75,6 @@ struct AnnealStats {
   LawsonStats lawson;            // the final pass (zeros when skipped)
 };
 
-// The names optimizer options accept: "lawson" (optimizer.hpp), "anneal"
-// (here) and "lookahead" (lookahead.hpp).
-const std::vector<std::string>& optimizer_names();
-// Throws ddt::Error listing the valid names unless `name` is one of them.
-void check_optimizer_name(const std::string& name);
 // Throws ddt::Error naming the first option out of range.
 void check_anneal_options(const AnnealOptions& options);
 

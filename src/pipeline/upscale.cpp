@@ -155,17 +155,18 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
   grid.rows = band.out_end - band.out_first;
   RenderStats rs;
   std::vector<float> gradients;
-  if (options.render == "cubic") {
+  const bool cubic = options.render == Render::cubic;
+  if (cubic) {
     if (whole) {
-      gradients = gradients_of(src, slope_limiter_by_name(options.slopes));
+      gradients = gradients_of(src, options.slopes);
     } else {
       Image part(W, band.bottom - band.top, C);
       part.pixels = values;
-      gradients = gradients_of(part, slope_limiter_by_name(options.slopes));
+      gradients = gradients_of(part, options.slopes);
     }
   }
   render_mesh_into(out, band.out_first - band.out_origin, mesh, values, C, grid, &rs, true,
-                   options.render == "cubic" ? &gradients : nullptr, stages.progress());
+                   cubic ? &gradients : nullptr, stages.progress());
   const double seconds_render = seconds_since(t0);
   local.seconds_render += seconds_render;
   stages.log("render: " + std::to_string(out_width) + "x" + std::to_string(band.out_end - band.out_first) + ", " +
@@ -196,11 +197,9 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
   return ls;
 }
 
-// The checks before any work: every name and the annealing schedule.
+// The checks before any work: the cost's name and the annealing schedule.
 const CostFunction& checked_cost(const UpscaleOptions& options) {
   const CostFunction& cost = find_cost(options.cost);
-  check_render_name(options.render);
-  if (options.render == "cubic") slope_limiter_by_name(options.slopes);
   check_optimizer(options.optimizer, options.anneal);
   return cost;
 }
@@ -235,7 +234,7 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
   // it: a reduction is the plain interpolation under every model.
   const bool reduced = out_width < W || out_height < H;
   const bool consistent = options.model.kind != AcquisitionModel::Kind::point && !reduced;
-  const bool can_tile = W >= 2 && H >= 2 && options.optimizer == "lawson";
+  const bool can_tile = W >= 2 && H >= 2 && options.optimizer == Optimizer::lawson;
   if (can_tile && options.tile_rows > 0) {
     tile_rows = options.tile_rows;
   } else if (can_tile && options.tile_rows == 0) {
@@ -243,7 +242,7 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
     // triangles and twins 48, optimizer flags 6 and edge terms 48, drive
     // values, cubic gradients, the band's own copy of its samples.
     const double per_pixel = 16 + 48 + 6 + 48 + (drive.identity ? 0 : 4.0 * drive.K) +
-                             (options.render == "cubic" ? 8.0 * C : 0) + 4.0 * C;
+                             (options.render == Render::cubic ? 8.0 * C : 0) + 4.0 * C;
     double fixed = 4.0 * C * (static_cast<double>(W) * H + static_cast<double>(out_width) * out_height);
     // The consistent reconstruction, untiled: a triangle owner per output
     // pixel; per input pixel the mesh's operator of about 8 nonzeros (8
@@ -375,7 +374,7 @@ Image upscale_rows(const Image& rows, int top, int image_height, int first, int 
   const CostFunction& cost = checked_cost(options);
   const DriveChannels drive = drive_channels(rows, options);
   const int region_rows = optimizer_region_rows(rows.width, image_height, options);
-  if (!whole && options.optimize && (region_rows <= 0 || options.optimizer != "lawson"))
+  if (!whole && options.optimize && (region_rows <= 0 || options.optimizer != Optimizer::lawson))
     throw Error("a band equals the whole image's rows only under Lawson's region schedule "
                 "(optimizer lawson, region_rows > 0)");
   const long long region_triangles = region_rows > 0 ? region_rows * 2LL * std::max(1, rows.width - 1) : -1;

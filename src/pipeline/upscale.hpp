@@ -13,6 +13,7 @@
 // Errors: throws ddt::Error (bad options, empty image).
 
 #include "consistency/acquisition_model.hpp"
+#include "ddtscale/options.hpp"
 #include "image/annealing.hpp"
 #include "image/mesh.hpp"
 #include "pipeline/stages.hpp"
@@ -28,20 +29,21 @@
 namespace ddt {
 
 struct UpscaleOptions {
-  std::string cost = "sederberg";   // a name from cost_names() (costs.hpp)
+  std::string cost = "sederberg";   // a name of cost_functions() (costs.hpp)
   bool luma_cost = false;           // flips decided on luminance only (else: sum over colour channels)
   int alpha_channel = -1;           // interpolated, never drives flips
   bool optimize = true;             // false: render the initial Delaunay mesh
   double relative_tolerance = 1e-9; // a flip must lower the local cost by more than this fraction
   int max_iterations = 10000;       // safety bound on Lawson sweeps
-  std::string optimizer = "lawson"; // "lawson", "anneal" (simulated annealing, then Lawson; annealing.hpp)
-                                    // or "lookahead" (Lawson with two-flip moves; lookahead.hpp)
-  AnnealOptions anneal;             // the annealing schedule and seed, when optimizer == "anneal"
-  // Surface drawn on the mesh: "cubic" (default; cubic Bézier patches from
-  // slope-limited vertex gradients, cubic_surface.hpp) or "linear" (the
+  // lawson, anneal (simulated annealing, then Lawson; annealing.hpp) or
+  // lookahead (Lawson with two-flip moves; lookahead.hpp).
+  Optimizer optimizer = Optimizer::lawson;
+  AnnealOptions anneal;             // the annealing schedule and seed, when optimizer is anneal
+  // Surface drawn on the mesh: cubic (default; cubic Bézier patches from
+  // slope-limited vertex gradients, cubic_surface.hpp) or linear (the
   // paper's piecewise-linear surface).
-  std::string render = "cubic";
-  std::string slopes = "mc4";       // slope limiter of the cubic mode: mc4, mc, central, minmod
+  Render render = Render::cubic;
+  SlopeLimiter slopes = SlopeLimiter::mc4;  // slope limiter of the cubic render
   // How an input pixel was made (acquisition_model.hpp): box (default), the
   // output's footprint averages reproduce the input (the consistent
   // reconstruction, consistent_reconstruction.hpp); point: the surface
@@ -67,10 +69,6 @@ struct UpscaleOptions {
   long long max_memory = 0;         // 0: half the physical memory
   Progress* progress = nullptr;     // stages and work done, for a progress bar; may be null
 };
-
-// The render modes, and a check that throws ddt::Error listing them.
-std::vector<std::string> render_names();
-void check_render_name(const std::string& name);
 
 // The stage seconds and the optimizer's summary (iterations, flips, cost
 // before and after; stages.hpp), and what is the image pipeline's own.

@@ -28,6 +28,7 @@
 // Errors: throws ddt::Error (bad size or bounds, fewer than three points
 // not on one line, unknown cost, too many channels for the cost).
 
+#include "ddtscale/options.hpp"
 #include "image/annealing.hpp"
 #include "util/image.hpp"
 #include "image/mesh.hpp"
@@ -58,8 +59,8 @@ struct GridOptions {
   // luminance of channels 0, 1, 2 (Rec. 601), k >= 0 channel k alone.
   int cost_channel = -1;
   bool optimize = true;                 // false: render the Delaunay mesh
-  std::string optimizer = "lawson";     // "lawson", "anneal" or "lookahead" (optimizer_choice.hpp)
-  AnnealOptions anneal;                 // the schedule and seed of "anneal"
+  Optimizer optimizer = Optimizer::lawson;  // lawson, anneal or lookahead (optimizer_choice.hpp)
+  AnnealOptions anneal;                 // the schedule and seed of anneal
   double relative_tolerance = 1e-9;     // a flip must lower the local cost by more than this fraction
   int max_iterations = 10000;
   float nodata = std::numeric_limits<float>::quiet_NaN();

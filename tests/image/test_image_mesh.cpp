@@ -10,11 +10,12 @@ using namespace ddt;
 TEST_CASE("image_mesh: the optimizer chosen changes the mesh, and a bad one is an error") {
   const Image src = render_scene(find_scene("strokes"), 40, 36);
   UpscaleOptions lawson, anneal;
-  anneal.optimizer = "anneal";
+  anneal.optimizer = Optimizer::anneal;
   const Mesh2 a = image_mesh(src, lawson), b = image_mesh(src, anneal);
   CHECK(a.tri != b.tri);
   UpscaleOptions bad;
-  bad.optimizer = "genetic";
+  bad.optimizer = Optimizer::anneal;
+  bad.anneal.cooling = 1.0;
   CHECK_THROWS_AS(image_mesh(src, bad), Error);
 }
 

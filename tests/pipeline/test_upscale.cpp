@@ -95,7 +95,7 @@ TEST_CASE("upscale: on a 30 degree step edge, variance DDT is closer to the anal
   const Image hr = render_scene(scene, w * s, w * s);
   UpscaleOptions opt;
   opt.cost = "variance";
-  opt.render = "linear";  // the paper's surface
+  opt.render = Render::linear;  // the paper's surface
   const Image ddt = upscale(lr, w * s, w * s, opt);
   const Image bicubic = matlab_imresize_bicubic(lr, w * s, w * s);
   auto rmse = [&](const Image& img) {
@@ -112,8 +112,8 @@ TEST_CASE("upscale: both render modes reproduce the samples exactly at scale 3")
   std::uniform_real_distribution<float> u(0, 1);
   Image in(10, 8, 3);
   for (auto& v : in.pixels) v = u(rng);
-  for (const char* render : {"cubic", "linear"}) {
-    CAPTURE(render);
+  for (const Render render : {Render::cubic, Render::linear}) {
+    CAPTURE(to_string(render));
     UpscaleOptions opt;
     opt.render = render;
     opt.model.kind = AcquisitionModel::Kind::point;
