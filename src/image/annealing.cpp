@@ -98,7 +98,6 @@ AnnealStats optimize_anneal(Mesh2& mesh, const std::vector<float>& values, int K
       cost_now += delta;
       ++accepted_now;
       if (delta > 0) ++stats.uphill;
-      if (options.on_flip) options.on_flip(mesh, e);
     }
     stats.accepted += accepted_now;
     ++stats.temperature_steps;

@@ -4,11 +4,13 @@
 // optimize, render, ...): each stage timed, its verbose lines prefixed with
 // the pipeline's label (e.g. "tile 2/5 "), the progress told which stage
 // runs, and the optimizer's summary and the stage seconds gathered into the
-// statistics structs below, which the pipelines' own stats are made of.
+// statistics parts of ddtscale/stats.hpp (StageSeconds, OptimizerSummary),
+// of which the pipelines' own stats are made.
 //
 // The lines themselves stay with each pipeline (they name what it counts);
 // the runner owns only what they had in common.
 
+#include "ddtscale/stats.hpp"
 #include "util/progress.hpp"
 #include "util/timing.hpp"
 
@@ -17,35 +19,6 @@
 #include <utility>
 
 namespace ddt {
-
-// Seconds spent in the stages of a run (summed over tiles).
-struct StageSeconds {
-  double seconds_triangulate = 0, seconds_optimize = 0, seconds_render = 0;
-  StageSeconds& operator+=(const StageSeconds& other) {
-    seconds_triangulate += other.seconds_triangulate;
-    seconds_optimize += other.seconds_optimize;
-    seconds_render += other.seconds_render;
-    return *this;
-  }
-};
-
-// What the optimizer reports, whatever the dimension: `Flips` is a count
-// (2D) or core::FlipCounts (by kind).
-template <class Flips>
-struct OptimizerSummary {
-  int iterations = 0;  // iterations, or phases of the region schedule
-  Flips flips{};
-  double cost_before = 0, cost_after = 0;
-
-  // Takes the summary of a LawsonStats (2D or core): the same fields.
-  template <class Lawson>
-  void take(const Lawson& ls) {
-    iterations = ls.iterations;
-    flips = ls.flips;
-    cost_before = ls.cost_before;
-    cost_after = ls.cost_after;
-  }
-};
 
 // The Lawson settings every pipeline passes on from its options (which
 // all name them relative_tolerance and max_iterations): written once.

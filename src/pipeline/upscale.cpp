@@ -14,7 +14,6 @@
 #include "util/size_limits.hpp"
 #include "image/triangulation.hpp"
 
-#include <OpenImageIO/imagebufalgo.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -321,22 +320,6 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
   }
   if (stats) *stats = local;
   return out;
-}
-
-bool upscale(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, int out_width, int out_height,
-             const UpscaleOptions& options, OIIO::ROI roi) {
-  try {
-    if (!roi.defined()) roi = src.roi();
-    OIIO::ImageBuf cropped = OIIO::ImageBufAlgo::cut(src, roi);
-    Image in = image_from_buf(cropped);
-    UpscaleOptions opts = options;
-    if (opts.alpha_channel < 0) opts.alpha_channel = src.spec().alpha_channel;
-    dst = buf_from_image(upscale(in, out_width, out_height, opts));
-    return true;
-  } catch (const std::exception& e) {
-    dst.errorfmt("{}", e.what());
-    return false;
-  }
 }
 
 Mesh2 upscale_mesh(const Image& src, const UpscaleOptions& options, UpscaleStats* stats) {
