@@ -5,6 +5,7 @@
 #include "consistency/grid_surface.hpp"
 #include "consistency/halo_limit.hpp"
 #include "consistency/step_edges.hpp"
+#include "util/timing.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -12,10 +13,6 @@
 
 namespace ddt {
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 constexpr int max_channels = 16;
 
