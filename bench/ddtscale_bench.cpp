@@ -163,7 +163,7 @@ int stages_main(int argc, char** argv) {
   const double read_s = now() - t0;
   UpscaleOptions options;
   options.alpha_channel = file.alpha_channel;
-  if (argc > 5) options.render = argv[5];
+  if (argc > 5) options.render = render_by_name(argv[5]);
   UpscaleStats st;
   t0 = now();
   const Image out = upscale(file.image, static_cast<int>(std::lround(file.image.width * scale)),

@@ -117,17 +117,18 @@ int run_eval_command(int argc, char** argv) {
                      ddt::cost_names_joined() + ")")
       ->delimiter(',');
   app.add_flag("--luma-cost", luma_cost, "DDT flips decided on luminance only");
-  std::string slopes = "mc4";
-  std::string model = "box";
+  const ddt::UpscaleOptions defaults;
+  std::string slopes = ddt::to_string(defaults.slopes);
+  std::string model = ddt::to_string(defaults.model);
   app.add_option("--model", model, "acquisition model of the ddt methods: box, gauss:SIGMA, bicubic, point")
       ->capture_default_str();
   bool no_step_edges = false;
   app.add_flag("--no-step-edges", no_step_edges, "ddt methods under the box model: no straight-edge footprints");
   app.add_option("--slopes", slopes, "slope limiter of the cubic render: mc4, mc, central, minmod")
-      ->check(CLI::IsMember({"mc4", "mc", "central", "minmod"}))
+      ->check(CLI::IsMember(ddt::slope_limiter_names()))
       ->capture_default_str();
-  std::string optimizer = "lawson";
-  std::uint64_t seed = 1;
+  std::string optimizer = ddt::to_string(defaults.optimizer);
+  std::uint64_t seed = defaults.anneal.seed;
   app.add_option("--optimizer", optimizer, "DDT optimizer of every ddt method: lawson, anneal or lookahead")
       ->check(CLI::IsMember(ddt::optimizer_names()))
       ->capture_default_str();
@@ -154,10 +155,10 @@ int run_eval_command(int argc, char** argv) {
     if (!synthetic && set_dir.empty()) throw ddt::Error("give --set DIR or --synthetic");
     ddt::UpscaleOptions ddt_options;
     ddt_options.luma_cost = luma_cost;
-    ddt_options.slopes = slopes;
+    ddt_options.slopes = ddt::slope_limiter_by_name(slopes);
     ddt_options.model = ddt::parse_acquisition_model(model);
     ddt_options.step_edges = !no_step_edges;
-    ddt_options.optimizer = optimizer;
+    ddt_options.optimizer = ddt::optimizer_by_name(optimizer);
     ddt_options.anneal.seed = seed;
     options.scales = scales;
     options.methods = ddt::make_eval_methods(methods, costs, ddt_options);

@@ -12,6 +12,7 @@
 #include "scattered/point_table.hpp"
 #include "util/size_limits.hpp"
 #include "pipeline/upscale.hpp"
+#include "util/timing.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -26,9 +27,7 @@
 
 namespace {
 
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
+using ddt::seconds_since;
 
 std::string lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -126,9 +125,9 @@ int run_grid_command(int argc, char** argv) {
   std::string input, output, size_text, bounds_text, columns_text, input_nodata_text, nodata_text;
   std::string cost = ddt::GridOptions{}.cost, cost_channel = "sum";
   bool no_optimize = false, verbose = false, quiet = false;
-  std::string optimizer = "lawson";
+  std::string optimizer = ddt::to_string(ddt::GridOptions{}.optimizer);
   ddt::AnnealOptions anneal;
-  double tolerance = 1e-9;
+  double tolerance = ddt::GridOptions{}.relative_tolerance;
   long long max_pixels = ddt::default_max_pixels;
   ddt::PointReadOptions read_options;
   read_options.float_values = true;
@@ -224,7 +223,7 @@ int run_grid_command(int argc, char** argv) {
     options.cost_channel = parse_cost_channel(cost_channel, table);
     options.optimize = !no_optimize;
     options.relative_tolerance = tolerance;
-    options.optimizer = optimizer;
+    options.optimizer = ddt::optimizer_by_name(optimizer);
     options.anneal = anneal;
     if (verbose) options.log = log;
     {

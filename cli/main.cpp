@@ -16,6 +16,7 @@
 #include "util/progress.hpp"
 #include "util/size_limits.hpp"
 #include "pipeline/upscale.hpp"
+#include "util/timing.hpp"
 
 #include <OpenImageIO/imageio.h>
 #include <tbb/global_control.h>
@@ -32,9 +33,7 @@
 
 namespace {
 
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
+using ddt::seconds_since;
 
 // Runs the job `args` (validate_arguments passed); returns the exit status.
 int run_upscale_job(UpscaleArguments args) {
@@ -103,12 +102,12 @@ int run_upscale_job(UpscaleArguments args) {
     options.luma_cost = args.cost_channel == "luma";
     options.alpha_channel = file.alpha_channel;
     options.optimize = !args.no_optimize;
-    options.render = args.render;
-    options.slopes = args.slopes;
+    options.render = ddt::render_by_name(args.render);
+    options.slopes = ddt::slope_limiter_by_name(args.slopes);
     options.model = ddt::parse_acquisition_model(args.model);
     options.step_edges = !args.no_step_edges;
     options.relative_tolerance = args.tolerance;
-    options.optimizer = args.optimizer;
+    options.optimizer = ddt::optimizer_by_name(args.optimizer);
     options.anneal = args.anneal;
     if (args.verbose) options.log = log;
     options.progress = &progress;

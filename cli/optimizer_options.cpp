@@ -1,6 +1,7 @@
 #include "commands.hpp"
 #include "whole_number.hpp"
 
+#include "ddtscale/options.hpp"
 #include "image/annealing.hpp"
 
 #include <CLI/CLI.hpp>

@@ -48,7 +48,7 @@ UpscaleCommandLine parse_upscale_command_line(int argc, const char* const* argv)
       ->check(CLI::IsMember(ddt::render_names()))
       ->capture_default_str();
   app.add_option("--slopes", args.slopes, "cubic render: slope limiter of the vertex gradients: mc4, mc, central, minmod")
-      ->check(CLI::IsMember({"mc4", "mc", "central", "minmod"}))
+      ->check(CLI::IsMember(ddt::slope_limiter_names()))
       ->capture_default_str();
   app.add_option("--model", args.model,
                  "how an input pixel was made: box (its area's average, default), gauss:SIGMA (the area blurred "
@@ -180,7 +180,7 @@ void output_size(const UpscaleArguments& args, int in_w, int in_h, int& out_w, i
 double image_job_bytes(const UpscaleArguments& args, const ddt::ImageHeader& header, int out_w, int out_h) {
   const double in_pixels = double(header.width) * header.height, out_pixels = double(out_w) * out_h;
   const double images = 4.0 * header.channels * (in_pixels + out_pixels * (args.compare.empty() ? 1 : 4));
-  const bool tiled = args.optimizer == "lawson" && args.tile_rows >= 0;
+  const bool tiled = ddt::optimizer_by_name(args.optimizer) == ddt::Optimizer::lawson && args.tile_rows >= 0;
   const double band = 200.0 * in_pixels;
   return images + (tiled ? std::min(band, 0.5 * double(ddt::physical_memory())) : band);
 }

@@ -27,29 +27,31 @@ struct ImageHeader;
 }
 
 // The single-file image job, as given on the command line (defaults are the
-// command's).
+// library's, UpscaleOptions', named for the command line).
+inline const ddt::UpscaleOptions upscale_defaults;
+
 struct UpscaleArguments {
   std::string input, output;
   double scale = 0;
   bool scale_given = false;
   bool width_given = false, height_given = false;  // on the command line
   int width = 0, height = 0;
-  std::string cost = "sederberg";
-  std::string cost_channel = "sum";
-  bool no_optimize = false;
-  double tolerance = 1e-9;
+  std::string cost = upscale_defaults.cost;
+  std::string cost_channel = upscale_defaults.luma_cost ? "luma" : "sum";
+  bool no_optimize = !upscale_defaults.optimize;
+  double tolerance = upscale_defaults.relative_tolerance;
   long long max_pixels = ddt::default_max_pixels;
   long long max_input_pixels = ddt::default_max_input_pixels();
   bool verbose = false;
   bool quiet = false;
   int threads = 0;    // 0: all cores
-  int tile_rows = 0;  // 0: automatic, < 0: never
-  std::string optimizer = "lawson";
-  ddt::AnnealOptions anneal;  // --seed and the --anneal-* schedule
-  std::string render = "cubic";
-  std::string slopes = "mc4";
-  std::string model = "box";
-  bool no_step_edges = false;
+  int tile_rows = upscale_defaults.tile_rows;  // 0: automatic, < 0: never
+  std::string optimizer = ddt::to_string(upscale_defaults.optimizer);
+  ddt::AnnealOptions anneal = upscale_defaults.anneal;  // --seed and the --anneal-* schedule
+  std::string render = ddt::to_string(upscale_defaults.render);
+  std::string slopes = ddt::to_string(upscale_defaults.slopes);
+  std::string model = ddt::to_string(upscale_defaults.model);
+  bool no_step_edges = !upscale_defaults.step_edges;
   std::string compare;    // classic method shown left of DDT, or empty
   std::string mesh_view;  // path of the mesh drawing, or empty
   std::string mesh_roi;   // x,y,w,h

@@ -15,6 +15,7 @@
 #include "io/volume_io.hpp"
 #include "eval/volume_pictures.hpp"
 #include "volume/volume_upscale.hpp"
+#include "util/timing.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -32,9 +33,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
+using ddt::seconds_since;
 
 double peak_memory_mb() {
   struct rusage ru {};

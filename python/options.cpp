@@ -61,8 +61,9 @@ void check_threads(int threads) {
 }
 
 // --optimizer, --seed and the --anneal-* schedule (cli/optimizer_options.cpp).
-void read_optimizer(const Keywords& k, std::string& optimizer, ddt::AnnealOptions& anneal) {
-  k.get("optimizer", optimizer);
+void read_optimizer(const Keywords& k, ddt::Optimizer& optimizer, ddt::AnnealOptions& anneal) {
+  std::string name = ddt::to_string(optimizer);
+  if (k.get("optimizer", name)) optimizer = ddt::optimizer_by_name(name);
   k.get("seed", anneal.seed);
   k.get("anneal_t0", anneal.initial_temperature);
   k.get("anneal_accept", anneal.initial_acceptance);
@@ -72,8 +73,8 @@ void read_optimizer(const Keywords& k, std::string& optimizer, ddt::AnnealOption
   ddt::check_optimizer(optimizer, anneal);
 }
 
-void add_optimizer_defaults(py::dict& d, const std::string& optimizer, const ddt::AnnealOptions& anneal) {
-  d["optimizer"] = optimizer;
+void add_optimizer_defaults(py::dict& d, ddt::Optimizer optimizer, const ddt::AnnealOptions& anneal) {
+  d["optimizer"] = ddt::to_string(optimizer);
   d["seed"] = anneal.seed;
   d["anneal_t0"] = anneal.initial_temperature;
   d["anneal_accept"] = anneal.initial_acceptance;
@@ -91,8 +92,8 @@ py::dict image_defaults() {
   d["height"] = py::none();
   d["cost"] = c.options.cost;
   d["cost_channel"] = c.options.luma_cost ? "luma" : "sum";
-  d["render"] = c.options.render;
-  d["slopes"] = c.options.slopes;
+  d["render"] = ddt::to_string(c.options.render);
+  d["slopes"] = ddt::to_string(c.options.slopes);
   d["model"] = ddt::to_string(c.options.model);
   d["no_step_edges"] = !c.options.step_edges;
   d["no_optimize"] = !c.options.optimize;
@@ -122,10 +123,9 @@ ImageCall image_call(const py::dict& kwargs) {
   if (c.cost_channel != "sum" && c.cost_channel != "luma")
     throw ddt::Error("--cost-channel must be sum or luma, not '" + c.cost_channel + "'");
   o.luma_cost = c.cost_channel == "luma";
-  k.get("render", o.render);
-  ddt::check_render_name(o.render);
-  k.get("slopes", o.slopes);
-  ddt::slope_limiter_by_name(o.slopes);
+  std::string name;
+  if (k.get("render", name)) o.render = ddt::render_by_name(name);
+  if (k.get("slopes", name)) o.slopes = ddt::slope_limiter_by_name(name);
   c.model = ddt::to_string(o.model);
   k.get("model", c.model);
   o.model = ddt::parse_acquisition_model(c.model);

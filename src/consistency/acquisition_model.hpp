@@ -21,6 +21,7 @@
 // columns). Output pixel X covers [X n / m, (X + 1) n / m) in input units;
 // for `box` w(j, X) is the exact overlap of that interval with [j, j + 1).
 
+#include "ddtscale/options.hpp"
 #include "util/image.hpp"
 
 #include <string>
@@ -28,18 +29,6 @@
 #include <vector>
 
 namespace ddt {
-
-struct AcquisitionModel {
-  enum class Kind { point, box, gauss, bicubic };
-  Kind kind = Kind::box;
-  double sigma = 0;  // gauss: the PSF's standard deviation in input pixels (> 0)
-};
-
-// Parses "point", "box", "gauss:SIGMA" (SIGMA > 0 and finite) or "bicubic";
-// throws ddt::Error with the accepted forms on anything else.
-AcquisitionModel parse_acquisition_model(const std::string& text);
-std::string to_string(const AcquisitionModel& model);
-std::vector<std::string> acquisition_model_names();  // the forms, for --help
 
 // The weights of one axis, by output sample: output X contributes
 // weight[k] to input pixel pixel[k] for k in [first[X], first[X + 1]).

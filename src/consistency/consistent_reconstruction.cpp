@@ -6,6 +6,7 @@
 #include "consistency/halo_limit.hpp"
 #include "consistency/step_edges.hpp"
 #include "image/rasterizer.hpp"
+#include "util/timing.hpp"
 
 #include <tbb/parallel_for.h>
 
@@ -15,10 +16,6 @@
 
 namespace ddt {
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 constexpr int max_channels = 16;
 

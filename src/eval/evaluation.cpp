@@ -173,11 +173,13 @@ std::vector<EvalMethod> make_eval_methods(const std::vector<std::string>& names,
     const bool is_delaunay = rest == "delaunay" || rest.rfind("delaunay-", 0) == 0;
     if (is_ddt || is_delaunay) {
       rest = rest.substr(is_ddt ? 3 : 8);
-      for (const std::string render : {"linear", "cubic"})
-        if (rest == "-" + render || rest.rfind("-" + render + "-", 0) == 0) {
+      for (const Render render : {Render::linear, Render::cubic}) {
+        const std::string suffix = std::string("-") + to_string(render);
+        if (rest == suffix || rest.rfind(suffix + "-", 0) == 0) {
           o.render = render;
-          rest = rest.substr(render.size() + 1);
+          rest = rest.substr(suffix.size());
         }
+      }
       if (is_delaunay) {
         if (!rest.empty()) throw Error("unknown method '" + name + "' (delaunay takes -linear or -cubic)");
         o.optimize = false;

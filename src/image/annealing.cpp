@@ -40,20 +40,6 @@ void check_channels(int K) {
 
 }  // namespace
 
-const std::vector<std::string>& optimizer_names() {
-  static const std::vector<std::string> names = {"lawson", "anneal", "lookahead"};
-  return names;
-}
-
-void check_optimizer_name(const std::string& name) {
-  std::string valid;
-  for (const auto& n : optimizer_names()) {
-    if (n == name) return;
-    valid += (valid.empty() ? "" : ", ") + n;
-  }
-  throw Error("unknown optimizer '" + name + "' (valid: " + valid + ")");
-}
-
 void check_anneal_options(const AnnealOptions& o) {
   if (!(o.initial_acceptance > 0 && o.initial_acceptance < 1))
     throw Error("the initial acceptance of annealing must lie strictly between 0 and 1");
@@ -112,7 +98,6 @@ AnnealStats optimize_anneal(Mesh2& mesh, const std::vector<float>& values, int K
       cost_now += delta;
       ++accepted_now;
       if (delta > 0) ++stats.uphill;
-      if (options.on_flip) options.on_flip(mesh, e);
     }
     stats.accepted += accepted_now;
     ++stats.temperature_steps;

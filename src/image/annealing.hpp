@@ -36,6 +36,7 @@
 // evaluations of O(K) each, plus the Lawson pass.
 
 #include "core/costs.hpp"
+#include "ddtscale/options.hpp"
 #include "image/mesh.hpp"
 #include "image/optimizer.hpp"
 
@@ -45,22 +46,6 @@
 #include <vector>
 
 namespace ddt {
-
-struct AnnealOptions {
-  std::uint64_t seed = 1;
-  double initial_temperature = 0;   // <= 0: automatic, from initial_acceptance
-  double initial_acceptance = 0.8;  // in (0, 1): probability of accepting a mean uphill flip at T0
-  double cooling = 0.9;             // in (0, 1): T <- cooling * T after each temperature step
-  int temperature_steps = 50;       // >= 0
-  double moves_per_edge = 1;        // >= 0: proposals per interior edge at each temperature
-  bool final_lawson = true;         // descend to a local optimum at the end
-  // Called after each temperature step with (step, T, flips accepted in
-  // it, running total cost).
-  std::function<void(int, double, long long, double)> on_step;
-  // Called after each accepted flip with the flipped half-edge (the new
-  // diagonal c-d of the flip diagram); for statistics, may be empty.
-  std::function<void(const Mesh2&, index_t)> on_flip;
-};
 
 struct AnnealStats {
   double initial_temperature = 0, final_temperature = 0;
@@ -75,11 +60,6 @@ struct AnnealStats {
   LawsonStats lawson;            // the final pass (zeros when skipped)
 };
 
-// The names optimizer options accept: "lawson" (optimizer.hpp), "anneal"
-// (here) and "lookahead" (lookahead.hpp).
-const std::vector<std::string>& optimizer_names();
-// Throws ddt::Error listing the valid names unless `name` is one of them.
-void check_optimizer_name(const std::string& name);
 // Throws ddt::Error naming the first option out of range.
 void check_anneal_options(const AnnealOptions& options);
 

@@ -36,20 +36,6 @@ double limited_slope(const double z[5], const bool has[5], SlopeLimiter limiter)
 
 }  // namespace
 
-std::vector<std::string> render_names() { return {"cubic", "linear"}; }
-
-void check_render_name(const std::string& name) {
-  if (name != "cubic" && name != "linear") throw Error("unknown render mode '" + name + "' (valid: cubic, linear)");
-}
-
-SlopeLimiter slope_limiter_by_name(const std::string& name) {
-  if (name == "central") return SlopeLimiter::central;
-  if (name == "mc") return SlopeLimiter::mc;
-  if (name == "minmod") return SlopeLimiter::minmod;
-  if (name == "mc4") return SlopeLimiter::mc4;
-  throw Error("unknown slope limiter '" + name + "' (valid: central, mc, mc4, minmod)");
-}
-
 std::vector<float> grid_gradients(const Image& src, SlopeLimiter limiter) {
   const int W = src.width, H = src.height, C = src.channels;
   std::vector<float> g;

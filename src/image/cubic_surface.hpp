@@ -14,8 +14,11 @@
 //   central     (z[+1] - z[-1]) / 2                 (Catmull-Rom's slopes)
 //   mc          monotonized central: minmod(2 d-, (d- + d+) / 2, 2 d+)
 //   minmod      minmod(d-, d+)
+//   mc4         (default) minmod(2 d-, s4, 2 d+), s4 the fourth-order central
+//               difference (central where the stencil leaves the image)
 // with d- = z[0] - z[-1], d+ = z[+1] - z[0] (one-sided at the border).
 
+#include "ddtscale/options.hpp"
 #include "util/image.hpp"
 #include "image/mesh.hpp"
 
@@ -24,9 +27,6 @@
 #include <vector>
 
 namespace ddt {
-
-enum class SlopeLimiter { central, mc, mc4, minmod };
-SlopeLimiter slope_limiter_by_name(const std::string& name);  // throws ddt::Error
 
 // Per-pixel gradients of every channel: #pixels by C by 2 (d/dx, d/dy), row-major.
 std::vector<float> grid_gradients(const Image& src, SlopeLimiter limiter);

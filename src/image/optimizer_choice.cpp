@@ -6,16 +6,15 @@
 
 namespace ddt {
 
-void check_optimizer(const std::string& optimizer, const AnnealOptions& anneal) {
-  check_optimizer_name(optimizer);
-  if (optimizer == "anneal") check_anneal_options(anneal);
+void check_optimizer(Optimizer optimizer, const AnnealOptions& anneal) {
+  if (optimizer == Optimizer::anneal) check_anneal_options(anneal);
 }
 
 LawsonStats run_optimizer(Mesh2& mesh, const std::vector<float>& values, int K, const CostFunction& cost,
-                          const std::string& optimizer, const AnnealOptions& anneal, const LawsonOptions& lawson,
+                          Optimizer optimizer, const AnnealOptions& anneal, const LawsonOptions& lawson,
                           const std::function<void(const std::string&)>& log) {
   check_optimizer(optimizer, anneal);
-  if (optimizer == "anneal") {
+  if (optimizer == Optimizer::anneal) {
     AnnealOptions schedule = anneal;
     if (log)
       schedule.on_step = [&](int step, double temperature, long long flips, double total) {
@@ -31,7 +30,7 @@ LawsonStats run_optimizer(Mesh2& mesh, const std::vector<float>& values, int K, 
     ls.cost_after = as.cost_after;
     return ls;
   }
-  if (optimizer == "lookahead") {
+  if (optimizer == Optimizer::lookahead) {
     const LookaheadStats la = optimize_lookahead(mesh, values, K, cost, lawson);
     LawsonStats ls = la.first_lawson;  // totals cover all passes and pairs
     ls.flips = la.lawson_flips + 2 * la.pairs;

@@ -6,26 +6,22 @@
 #include "util/error.hpp"
 #include "io/image_io.hpp"
 #include "image/image_mesh.hpp"
+#include "pipeline/drive_channels.hpp"
+#include "pipeline/stages.hpp"
 #include "image/optimizer_choice.hpp"
 #include "image/optimizer.hpp"
 #include "image/rasterizer.hpp"
 #include "util/size_limits.hpp"
 #include "image/triangulation.hpp"
 
-#include <OpenImageIO/imagebufalgo.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 
 namespace ddt {
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 // grid_gradients in parallel: bands of rows with a halo of two rows (the
 // reach of its stencils), so every value is the one the whole image gives.
@@ -64,24 +60,16 @@ struct Band {
   int out_origin = 0;   // the output row held by row 0 of the image rendered into
 };
 
-// Triangulates, optimizes and renders one band of input rows into `out`.
-// Returns the optimizer's statistics (phases in `iterations`).
-// `src` holds rows [src_top, src_top + src.height) of an image of
-// image_height rows; the band lies within them.
-LawsonStats run_band(const Image& src, int src_top, int image_height, const Band& band, int out_width, int out_height,
-                     const UpscaleOptions& options, const CostFunction& cost, const DriveChannels& drive,
-                     long long region_triangles, int region_rows, const std::string& label, Image& out,
-                     UpscaleStats& local) {
-  auto log = [&](const std::string& line) {
-    if (options.log) options.log(label + line);
-  };
-  Progress* progress = options.progress;
-  const int W = src.width, C = src.channels;
-  const bool whole = band.top == 0 && band.bottom == image_height;
+// The mesh stage of a band: the Delaunay triangulation of its pixel
+// centres, then the optimizer on its drive values (`values`: the band's
+// samples, W pixels a row). The mesh upscale() renders, and the one
+// upscale_mesh() returns. Adds to `local`'s triangles and seconds.
+Mesh2 band_mesh(const std::vector<float>& values, int W, int C, const Band& band, const UpscaleOptions& options,
+                const CostFunction& cost, const DriveChannels& drive, long long region_triangles, int region_rows,
+                const StageRunner& stages, UpscaleStats& local, LawsonStats& ls) {
   const std::size_t n = static_cast<std::size_t>(W) * (band.bottom - band.top);
-
-  auto t0 = std::chrono::steady_clock::now();
-  if (progress) progress->begin(label + "triangulate");
+  auto t0 = Clock::now();
+  stages.begin("triangulate");
   Mesh2 mesh;
   {
     std::vector<Point2> points(n);
@@ -91,49 +79,34 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
     mesh = delaunay_triangulation(points);
   }
   const double seconds_triangulate = seconds_since(t0);
-  const bool consistent = options.model.kind != AcquisitionModel::Kind::point;
   local.seconds_triangulate += seconds_triangulate;
   local.triangles += mesh.triangle_count();
-  log("triangulate: " + std::to_string(mesh.points.size()) + " points, " + std::to_string(mesh.triangle_count()) +
-      " triangles, " + std::to_string(seconds_triangulate) + " s");
+  stages.log("triangulate: " + std::to_string(mesh.points.size()) + " points, " +
+             std::to_string(mesh.triangle_count()) + " triangles, " + std::to_string(seconds_triangulate) + " s");
 
-  // The band's samples (the image itself when the band is the image).
-  std::vector<float> band_pixels;
-  if (!whole)
-    band_pixels.assign(
-        src.pixels.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(band.top - src_top) * W * C),
-        src.pixels.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(band.bottom - src_top) * W * C));
-  const std::vector<float>& values = whole ? src.pixels : band_pixels;
-
-  t0 = std::chrono::steady_clock::now();
-  LawsonStats ls;
+  t0 = Clock::now();
   if (options.optimize && mesh.triangle_count() > 0) {
     std::vector<float> own_drive;
     if (!drive.identity) own_drive = drive_values(values.data(), n, C, drive);
     const std::vector<float>& drive_vals = drive.identity ? values : own_drive;
-    const int K = drive.K;
-    LawsonOptions lawson;
-    lawson.relative_tolerance = options.relative_tolerance;
-    lawson.max_iterations = options.max_iterations;
+    LawsonOptions lawson = lawson_options<LawsonOptions>(options);
     lawson.region_triangles = region_triangles;
     if (region_rows > 0)  // boundaries on absolute rows that are multiples of region_rows
       lawson.region_origin = static_cast<long long>((region_rows - band.top % region_rows) % region_rows) * 2 * (W - 1);
-    if (options.log)
+    if (stages.logging())
       lawson.on_iteration = [&](int iteration, long long flips, double total) {
         char line[160];
         std::snprintf(line, sizeof line, "optimize: %s %d, %lld flips, cost %.9g",
                       region_triangles > 0 ? "phase" : "iteration", iteration, flips, total);
-        log(line);
+        stages.log(line);
       };
-    if (progress) {
+    if (Progress* progress = stages.progress()) {
       // Expected tests: about twice the interior edges, 3 per triangle
       // (3.0 measured on photographs; a little more, so the bar ends full).
-      progress->begin(label + "optimize", 3LL * mesh.triangle_count() + mesh.triangle_count() / 8);
+      stages.begin("optimize", 3LL * mesh.triangle_count() + mesh.triangle_count() / 8);
       lawson.on_tests = [progress](long long tests) { progress->set(tests); };
     }
-    std::function<void(const std::string&)> band_log;
-    if (options.log) band_log = log;
-    ls = run_optimizer(mesh, drive_vals, K, cost, options.optimizer, options.anneal, lawson, band_log);
+    ls = run_optimizer(mesh, drive_vals, drive.K, cost, options.optimizer, options.anneal, lawson, stages.logger());
   }
   const double seconds_optimize = seconds_since(t0);
   local.seconds_optimize += seconds_optimize;
@@ -143,10 +116,35 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
                   "optimize: cost %s, %d %s, %d regions, %lld tests, %lld flips, cost %.9g -> %.9g, %.3f s", cost.name,
                   ls.iterations, region_triangles > 0 ? "phases" : "iterations", ls.regions, ls.tests, ls.flips,
                   ls.cost_before, ls.cost_after, seconds_optimize);
-    log(line);
+    stages.log(line);
   }
+  return mesh;
+}
 
-  t0 = std::chrono::steady_clock::now();
+// Triangulates, optimizes and renders one band of input rows into `out`.
+// Returns the optimizer's statistics (phases in `iterations`).
+// `src` holds rows [src_top, src_top + src.height) of an image of
+// image_height rows; the band lies within them.
+LawsonStats run_band(const Image& src, int src_top, int image_height, const Band& band, int out_width, int out_height,
+                     const UpscaleOptions& options, const CostFunction& cost, const DriveChannels& drive,
+                     long long region_triangles, int region_rows, const std::string& label, Image& out,
+                     UpscaleStats& local) {
+  const StageRunner stages(options.log, options.progress, label);
+  const int W = src.width, C = src.channels;
+  const bool whole = band.top == 0 && band.bottom == image_height;
+
+  // The band's samples (the image itself when the band is the image).
+  std::vector<float> band_pixels;
+  if (!whole)
+    band_pixels.assign(
+        src.pixels.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(band.top - src_top) * W * C),
+        src.pixels.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(band.bottom - src_top) * W * C));
+  const std::vector<float>& values = whole ? src.pixels : band_pixels;
+
+  LawsonStats ls;
+  const Mesh2 mesh = band_mesh(values, W, C, band, options, cost, drive, region_triangles, region_rows, stages, local, ls);
+
+  auto t0 = Clock::now();
   RenderGrid grid;
   grid.width = out_width;
   grid.height = out_height;
@@ -156,26 +154,27 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
   grid.rows = band.out_end - band.out_first;
   RenderStats rs;
   std::vector<float> gradients;
-  if (options.render == "cubic") {
+  const bool cubic = options.render == Render::cubic;
+  if (cubic) {
     if (whole) {
-      gradients = gradients_of(src, slope_limiter_by_name(options.slopes));
+      gradients = gradients_of(src, options.slopes);
     } else {
       Image part(W, band.bottom - band.top, C);
       part.pixels = values;
-      gradients = gradients_of(part, slope_limiter_by_name(options.slopes));
+      gradients = gradients_of(part, options.slopes);
     }
   }
   render_mesh_into(out, band.out_first - band.out_origin, mesh, values, C, grid, &rs, true,
-                   options.render == "cubic" ? &gradients : nullptr, progress);
+                   cubic ? &gradients : nullptr, stages.progress());
   const double seconds_render = seconds_since(t0);
   local.seconds_render += seconds_render;
-  log("render: " + std::to_string(out_width) + "x" + std::to_string(band.out_end - band.out_first) + ", " +
-      std::to_string(rs.triangles) + " + " + std::to_string(rs.rim_triangles) + " rim triangles, " +
-      std::to_string(seconds_render) + " s");
-  if (consistent) {
+  stages.log("render: " + std::to_string(out_width) + "x" + std::to_string(band.out_end - band.out_first) + ", " +
+             std::to_string(rs.triangles) + " + " + std::to_string(rs.rim_triangles) + " rim triangles, " +
+             std::to_string(seconds_render) + " s");
+  if (options.model.kind != AcquisitionModel::Kind::point) {
     if (!whole) throw Error("the consistent reconstruction does not run in tiles yet");
-    t0 = std::chrono::steady_clock::now();
-    if (progress) progress->begin(label + "consistency");
+    t0 = Clock::now();
+    stages.begin("consistency");
     ConsistencyOptions co;
     co.model = options.model;
     co.step_edges = options.step_edges;
@@ -192,28 +191,23 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
                   to_string(options.model).c_str(), cs.residual_before, cs.residual_mesh, cs.mesh_steps,
                   cs.residual_after, cs.step_edge_footprints, cs.halo_footprints,
                   cs.seconds_operator, cs.seconds_solve, cs.seconds_render);
-    log(line);
+    stages.log(line);
   }
   return ls;
 }
 
-// The checks before any work: every name and the annealing schedule.
+// The checks before any work: the cost's name and the annealing schedule.
 const CostFunction& checked_cost(const UpscaleOptions& options) {
   const CostFunction& cost = find_cost(options.cost);
-  check_render_name(options.render);
-  if (options.render == "cubic") slope_limiter_by_name(options.slopes);
   check_optimizer(options.optimizer, options.anneal);
   return cost;
 }
 
 // The optimizer's statistics of a run over one band (the whole image).
 void take_optimizer_stats(const LawsonStats& ls, UpscaleStats& stats) {
-  stats.iterations = ls.iterations;
-  stats.flips = ls.flips;
+  stats.take(ls);
   stats.tests = ls.tests;
   stats.regions = ls.regions;
-  stats.cost_before = ls.cost_before;
-  stats.cost_after = ls.cost_after;
 }
 
 }  // namespace
@@ -239,7 +233,7 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
   // it: a reduction is the plain interpolation under every model.
   const bool reduced = out_width < W || out_height < H;
   const bool consistent = options.model.kind != AcquisitionModel::Kind::point && !reduced;
-  const bool can_tile = W >= 2 && H >= 2 && options.optimizer == "lawson";
+  const bool can_tile = W >= 2 && H >= 2 && options.optimizer == Optimizer::lawson;
   if (can_tile && options.tile_rows > 0) {
     tile_rows = options.tile_rows;
   } else if (can_tile && options.tile_rows == 0) {
@@ -247,7 +241,7 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
     // triangles and twins 48, optimizer flags 6 and edge terms 48, drive
     // values, cubic gradients, the band's own copy of its samples.
     const double per_pixel = 16 + 48 + 6 + 48 + (drive.identity ? 0 : 4.0 * drive.K) +
-                             (options.render == "cubic" ? 8.0 * C : 0) + 4.0 * C;
+                             (options.render == Render::cubic ? 8.0 * C : 0) + 4.0 * C;
     double fixed = 4.0 * C * (static_cast<double>(W) * H + static_cast<double>(out_width) * out_height);
     // The consistent reconstruction, untiled: a triangle owner per output
     // pixel; per input pixel the mesh's operator of about 8 nonzeros (8
@@ -311,9 +305,7 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
                                        " phases: again with " + std::to_string(margin) + " rows");
           continue;
         }
-        local.seconds_triangulate += part.seconds_triangulate;
-        local.seconds_optimize += part.seconds_optimize;
-        local.seconds_render += part.seconds_render;
+        local += static_cast<const StageSeconds&>(part);
         local.triangles += part.triangles;
         local.iterations = std::max(local.iterations, ls.iterations);
         local.flips += ls.flips;
@@ -330,20 +322,19 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
   return out;
 }
 
-bool upscale(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, int out_width, int out_height,
-             const UpscaleOptions& options, OIIO::ROI roi) {
-  try {
-    if (!roi.defined()) roi = src.roi();
-    OIIO::ImageBuf cropped = OIIO::ImageBufAlgo::cut(src, roi);
-    Image in = image_from_buf(cropped);
-    UpscaleOptions opts = options;
-    if (opts.alpha_channel < 0) opts.alpha_channel = src.spec().alpha_channel;
-    dst = buf_from_image(upscale(in, out_width, out_height, opts));
-    return true;
-  } catch (const std::exception& e) {
-    dst.errorfmt("{}", e.what());
-    return false;
-  }
+Mesh2 upscale_mesh(const Image& src, const UpscaleOptions& options, UpscaleStats* stats) {
+  if (src.empty() || src.width <= 0 || src.height <= 0) throw Error("the input image is empty");
+  const CostFunction& cost = checked_cost(options);
+  const DriveChannels drive = drive_channels(src, options);
+  const int region_rows = optimizer_region_rows(src.width, src.height, options);
+  const long long region_triangles = region_rows > 0 ? region_rows * 2LL * std::max(1, src.width - 1) : -1;
+  UpscaleStats local;
+  LawsonStats ls;
+  Mesh2 mesh = band_mesh(src.pixels, src.width, src.channels, Band{0, src.height, 0, 0}, options, cost, drive,
+                         region_triangles, region_rows, StageRunner(options.log, options.progress), local, ls);
+  take_optimizer_stats(ls, local);
+  if (stats) *stats = local;
+  return mesh;
 }
 
 int output_row_of(int y, int in_height, int out_height) { return first_output_row(y, in_height, out_height); }
@@ -366,7 +357,7 @@ Image upscale_rows(const Image& rows, int top, int image_height, int first, int 
   const CostFunction& cost = checked_cost(options);
   const DriveChannels drive = drive_channels(rows, options);
   const int region_rows = optimizer_region_rows(rows.width, image_height, options);
-  if (!whole && options.optimize && (region_rows <= 0 || options.optimizer != "lawson"))
+  if (!whole && options.optimize && (region_rows <= 0 || options.optimizer != Optimizer::lawson))
     throw Error("a band equals the whole image's rows only under Lawson's region schedule "
                 "(optimizer lawson, region_rows > 0)");
   const long long region_triangles = region_rows > 0 ? region_rows * 2LL * std::max(1, rows.width - 1) : -1;

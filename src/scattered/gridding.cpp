@@ -6,42 +6,40 @@
 #include "image/optimizer_choice.hpp"
 #include "image/rasterizer.hpp"
 #include "image/triangulation.hpp"
+#include "pipeline/drive_channels.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 
 namespace ddt {
 namespace {
 
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-// The values that drive the flips (GridOptions::cost_channel).
-std::vector<float> cost_values(const std::vector<float>& values, int C, int cost_channel, int& K) {
-  const std::size_t n = values.size() / C;
+// What drives the flips (GridOptions::cost_channel): all channels, their
+// luminance, or one of them.
+DriveChannels drive_of_points(int C, int cost_channel) {
+  DriveChannels d;
   if (cost_channel == cost_channel_sum) {
     if (C > max_cost_channels)
       throw Error("the cost takes at most " + std::to_string(max_cost_channels) + " channels; the points have " +
                   std::to_string(C) + " (pick one with --cost-channel)");
-    K = C;
-    return values;
+    for (int c = 0; c < C; ++c) d.colour.push_back(c);
+    d.K = C;
+    d.identity = true;
+    return d;
   }
-  K = 1;
-  std::vector<float> out(n);
+  d.K = 1;
   if (cost_channel == cost_channel_luma) {
     if (C < 3) throw Error("--cost-channel luma needs three value channels (R, G, B); the points have " + std::to_string(C));
-    for (std::size_t i = 0; i < n; ++i)
-      out[i] = 0.299f * values[i * C] + 0.587f * values[i * C + 1] + 0.114f * values[i * C + 2];
-    return out;
+    d.colour = {0, 1, 2};
+    d.luma = true;
+    return d;
   }
   if (cost_channel < 0 || cost_channel >= C)
     throw Error("--cost-channel " + std::to_string(cost_channel + 1) + ": the points have " + std::to_string(C) +
                 " value channel" + (C == 1 ? "" : "s"));
-  for (std::size_t i = 0; i < n; ++i) out[i] = values[i * C + cost_channel];
-  return out;
+  d.colour = {cost_channel};
+  return d;
 }
 
 // v clamped to [-1, n] before the conversion (far-away positions must not
@@ -174,9 +172,8 @@ Image grid_points(const std::vector<Point2>& points, const std::vector<float>& v
   const CostFunction& cost = find_cost(options.cost);
   check_optimizer(options.optimizer, options.anneal);
   GridStats local;
-  auto log = [&](const std::string& line) {
-    if (options.log) options.log(line);
-  };
+  const StageRunner stages(options.log);
+  auto log = [&](const std::string& line) { stages.log(line); };
 
   const GridBounds b = options.bounds ? *options.bounds : bounding_box(points);
   if (options.bounds) {
@@ -189,7 +186,7 @@ Image grid_points(const std::vector<Point2>& points, const std::vector<float>& v
 
   // Mirror y (exact) so that the rasterizer's rows, which run toward
   // increasing coordinates, run from ymax down to ymin.
-  auto t0 = std::chrono::steady_clock::now();
+  auto t0 = Clock::now();
   std::vector<Point2> mirrored(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) mirrored[i] = {points[i].x, -points[i].y};
   Mesh2 mesh = delaunay_triangulation(mirrored);
@@ -202,24 +199,20 @@ Image grid_points(const std::vector<Point2>& points, const std::vector<float>& v
   log("triangulate: " + std::to_string(points.size()) + " points, " + std::to_string(mesh.triangle_count()) +
       " triangles, " + std::to_string(local.seconds_triangulate) + " s");
 
-  t0 = std::chrono::steady_clock::now();
-  int K = 0;
-  const std::vector<float> drive = cost_values(values, C, options.cost_channel, K);  // validates even without flips
+  t0 = Clock::now();
+  const DriveChannels drive = drive_of_points(C, options.cost_channel);  // validates even without flips
   if (options.optimize) {
-    LawsonOptions lawson;
-    lawson.relative_tolerance = options.relative_tolerance;
-    lawson.max_iterations = options.max_iterations;
-    if (options.log)
+    std::vector<float> own_drive;
+    if (!drive.identity) own_drive = drive_values(values.data(), points.size(), C, drive);
+    LawsonOptions lawson = lawson_options<LawsonOptions>(options);
+    if (stages.logging())
       lawson.on_iteration = [&](int iteration, long long flips, double total) {
         char line[160];
         std::snprintf(line, sizeof line, "optimize: iteration %d, %lld flips, cost %.9g", iteration, flips, total);
         log(line);
       };
-    const LawsonStats ls = run_optimizer(mesh, drive, K, cost, options.optimizer, options.anneal, lawson, options.log);
-    local.iterations = ls.iterations;
-    local.flips = ls.flips;
-    local.cost_before = ls.cost_before;
-    local.cost_after = ls.cost_after;
+    local.take(run_optimizer(mesh, drive.identity ? values : own_drive, drive.K, cost, options.optimizer, options.anneal,
+                             lawson, stages.logger()));
     local.seconds_optimize = seconds_since(t0);
     char line[200];
     std::snprintf(line, sizeof line, "optimize: cost %s, %d iterations, %lld flips, cost %.9g -> %.9g, %.3f s",
@@ -228,7 +221,7 @@ Image grid_points(const std::vector<Point2>& points, const std::vector<float>& v
     log(line);
   }
 
-  t0 = std::chrono::steady_clock::now();
+  t0 = Clock::now();
   RenderGrid grid;
   grid.width = options.width;
   grid.height = options.height;

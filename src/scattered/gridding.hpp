@@ -28,9 +28,11 @@
 // Errors: throws ddt::Error (bad size or bounds, fewer than three points
 // not on one line, unknown cost, too many channels for the cost).
 
+#include "ddtscale/options.hpp"
 #include "image/annealing.hpp"
 #include "util/image.hpp"
 #include "image/mesh.hpp"
+#include "pipeline/stages.hpp"
 
 #include <functional>
 #include <limits>
@@ -57,8 +59,8 @@ struct GridOptions {
   // luminance of channels 0, 1, 2 (Rec. 601), k >= 0 channel k alone.
   int cost_channel = -1;
   bool optimize = true;                 // false: render the Delaunay mesh
-  std::string optimizer = "lawson";     // "lawson", "anneal" or "lookahead" (optimizer_choice.hpp)
-  AnnealOptions anneal;                 // the schedule and seed of "anneal"
+  Optimizer optimizer = Optimizer::lawson;  // lawson, anneal or lookahead (optimizer_choice.hpp)
+  AnnealOptions anneal;                 // the schedule and seed of anneal
   double relative_tolerance = 1e-9;     // a flip must lower the local cost by more than this fraction
   int max_iterations = 10000;
   float nodata = std::numeric_limits<float>::quiet_NaN();
@@ -70,16 +72,14 @@ struct GridOptions {
 inline constexpr int cost_channel_sum = -1;
 inline constexpr int cost_channel_luma = -2;
 
-struct GridStats {
+// The stage seconds and the optimizer's summary (pipeline/stages.hpp), and
+// what is the gridding's own.
+struct GridStats : StageSeconds, OptimizerSummary<long long> {
   GridBounds bounds;                    // the bounds used
   long long points = 0;                 // vertices of the mesh
   long long triangles = 0;
-  int iterations = 0;
-  long long flips = 0;
-  double cost_before = 0, cost_after = 0;
   long long inside_pixels = 0;          // pixels with data
   long long nodata_pixels = 0;          // pixels outside the hull
-  double seconds_triangulate = 0, seconds_optimize = 0, seconds_render = 0;
 };
 
 // Inputs:

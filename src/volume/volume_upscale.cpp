@@ -8,15 +8,10 @@
 #include "eval/volume_resample.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 
 namespace ddt {
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
 
 // A single slice (or line, or voxel): the 2D method on the two widest axes,
 // repeated along the others.
@@ -43,13 +38,11 @@ Volume upscale_planar(const Volume& src, const int out[3], const VolumeUpscaleOp
   UpscaleStats s2;
   const Image big = upscale(img, out[u], out[v], o, &s2);
   stats.planar = true;
+  static_cast<StageSeconds&>(stats) = s2;
   stats.iterations = s2.iterations;
   stats.planar_flips = s2.flips;
   stats.cost_before = s2.cost_before;
   stats.cost_after = s2.cost_after;
-  stats.seconds_triangulate = s2.seconds_triangulate;
-  stats.seconds_optimize = s2.seconds_optimize;
-  stats.seconds_render = s2.seconds_render;
   Volume result(out[0], out[1], out[2], C, 0.0f);
   for (int Z = 0; Z < out[2]; ++Z)
     for (int Y = 0; Y < out[1]; ++Y)
@@ -87,11 +80,10 @@ Volume upscale_volume(const Volume& src, int nx, int ny, int nz, const VolumeUps
     throw Error("unknown method '" + options.method + "' (valid: ddt, delaunay, trilinear, tricubic)");
   const CostFunction& cost = find_cost(options.cost);
   VolumeUpscaleStats local;
-  auto log = [&](const std::string& line) {
-    if (options.log) options.log(line);
-  };
+  const StageRunner stages(options.log);
+  auto log = [&](const std::string& line) { stages.log(line); };
   if (options.method == "trilinear" || options.method == "tricubic") {
-    auto t0 = std::chrono::steady_clock::now();
+    auto t0 = Clock::now();
     Volume out(nx, ny, nz, src.channels, 0.0f);
     for (int c = 0; c < src.channels; ++c)
       set_volume_channel(out, c, classic_resize_volume(src.channels == 1 ? src : volume_channel(src, c), nx, ny, nz,
@@ -108,21 +100,19 @@ Volume upscale_volume(const Volume& src, int nx, int ny, int nz, const VolumeUps
     return out;
   }
 
-  auto t0 = std::chrono::steady_clock::now();
+  auto t0 = Clock::now();
   core::SimplexMesh<3> mesh = core::grid_delaunay<3>({src.nx, src.ny, src.nz});  // = CGAL's Delaunay of the voxel centres
   local.seconds_triangulate = seconds_since(t0);
   local.tetrahedra = mesh.cell_count();
   log("tetrahedralize: " + std::to_string(mesh.points.size()) + " points, " + std::to_string(mesh.cell_count()) +
       " tetrahedra, " + std::to_string(local.seconds_triangulate) + " s");
 
-  t0 = std::chrono::steady_clock::now();
+  t0 = Clock::now();
   if (options.method == "ddt") {
-    core::LawsonOptions lawson;
-    lawson.relative_tolerance = options.relative_tolerance;
-    lawson.max_iterations = options.max_iterations;
+    core::LawsonOptions lawson = lawson_options<core::LawsonOptions>(options);
     const int slices = options.region_slices > 0 ? options.region_slices : volume_region_slices(src.nx, src.ny, src.nz);
     lawson.region_vertices = slices >= src.nz ? -1 : static_cast<long long>(slices) * src.nx * src.ny;
-    if (options.log)
+    if (stages.logging())
       lawson.on_iteration = [&](int iteration, const core::FlipCounts& flips, double total) {
         char line[300];
         std::snprintf(line, sizeof line, "optimize: iteration %d, flips %s, cost %.9g", iteration,
@@ -130,10 +120,7 @@ Volume upscale_volume(const Volume& src, int nx, int ny, int nz, const VolumeUps
         log(line);
       };
     const core::LawsonStats ls = core::optimize_lawson<3>(mesh, src.voxels, src.channels, cost, lawson);
-    local.iterations = ls.iterations;
-    local.flips = ls.flips;
-    local.cost_before = ls.cost_before;
-    local.cost_after = ls.cost_after;
+    local.take(ls);
     local.tetrahedra = mesh.cell_count();
     local.seconds_optimize = seconds_since(t0);
     char line[400];
@@ -145,7 +132,7 @@ Volume upscale_volume(const Volume& src, int nx, int ny, int nz, const VolumeUps
     log(line);
   }
 
-  t0 = std::chrono::steady_clock::now();
+  t0 = Clock::now();
   core::ScanStats rs;
   Volume out;
   out.nx = nx, out.ny = ny, out.nz = nz, out.channels = src.channels;

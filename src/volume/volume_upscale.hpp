@@ -25,6 +25,7 @@
 // Errors: throws ddt::Error (empty volume, bad size, unknown method or cost).
 
 #include "core/lawson.hpp"
+#include "pipeline/stages.hpp"
 #include "volume/volume.hpp"
 
 #include <functional>
@@ -44,12 +45,10 @@ struct VolumeUpscaleOptions {
   std::function<void(const std::string&)> log;  // verbose lines; may be empty
 };
 
-struct VolumeUpscaleStats {
+// The stage seconds and the optimizer's summary (flips by kind;
+// pipeline/stages.hpp), and what is the volumes' own.
+struct VolumeUpscaleStats : StageSeconds, OptimizerSummary<core::FlipCounts> {
   long long tetrahedra = 0;
-  int iterations = 0;
-  core::FlipCounts flips;
-  double cost_before = 0, cost_after = 0;
-  double seconds_triangulate = 0, seconds_optimize = 0, seconds_render = 0;
   bool planar = false;          // handled by the 2D method (a single slice)
   long long planar_flips = 0;   // its 2D edge flips
 };

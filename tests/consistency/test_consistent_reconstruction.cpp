@@ -106,8 +106,8 @@ TEST_CASE("make_consistent: the output's footprint averages reproduce the input,
     for (auto [ow, oh] : {std::pair{68, 52}, std::pair{51, 39}, std::pair{40, 31}, std::pair{170, 130}}) {
       CAPTURE(model);
       CAPTURE(ow);
-      for (const char* render : {"cubic", "linear"}) {
-        CAPTURE(render);
+      for (const Render render : {Render::cubic, Render::linear}) {
+        CAPTURE(to_string(render));
         UpscaleOptions options;
         options.render = render;
         options.model = parse_acquisition_model(model);

@@ -151,11 +151,8 @@ TEST_CASE("optimize_anneal and upscale: bad options are clear errors") {
   bad.initial_acceptance = 1;
   CHECK_THROWS_AS(optimize_anneal(m, values, 1, find_cost("sederberg"), bad), Error);
   CHECK_THROWS_AS(optimize_anneal(m, values, 0, find_cost("sederberg")), Error);
-  const Image img = test::sampled_image(6, 5, 1, [](double x, double y, int) { return x * y / 30; });
-  UpscaleOptions options;
-  options.optimizer = "annealing";
   try {
-    upscale(img, 12, 10, options);
+    optimizer_by_name("annealing");
     FAIL("no error for an unknown optimizer");
   } catch (const Error& e) {
     const std::string msg = e.what();
@@ -170,7 +167,7 @@ TEST_CASE("upscale: --optimizer anneal is reproducible with its seed") {
     return 0.5 + 0.4 * std::sin(0.7 * x + 0.3 * c) * std::cos(0.5 * y);
   });
   UpscaleOptions options;
-  options.optimizer = "anneal";
+  options.optimizer = Optimizer::anneal;
   options.anneal = quick(11);
   UpscaleStats s1, s2, s3;
   const Image a = upscale(img, 48, 36, options, &s1);

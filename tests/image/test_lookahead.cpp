@@ -55,7 +55,7 @@ TEST_CASE("upscale: --optimizer lookahead lowers the cost below Lawson's") {
   UpscaleOptions options;
   UpscaleStats lawson, lookahead;
   upscale(img, 40, 32, options, &lawson);
-  options.optimizer = "lookahead";
+  options.optimizer = Optimizer::lookahead;
   upscale(img, 40, 32, options, &lookahead);
   CHECK(lookahead.cost_before == lawson.cost_before);
   CHECK(lookahead.cost_after <= lawson.cost_after);

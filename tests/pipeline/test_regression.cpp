@@ -52,7 +52,7 @@ TEST_CASE("regression: every input and cost matches its golden output") {
       const ImageFile golden = read_image(golden_path.string());
       UpscaleOptions options;
       options.cost = cost;
-      options.render = render;
+      options.render = render_by_name(render);
       options.model = parse_acquisition_model(model);
       options.alpha_channel = file.alpha_channel;
       const Image out = upscale(file.image, 3 * file.image.width, 3 * file.image.height, options);

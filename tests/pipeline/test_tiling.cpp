@@ -40,10 +40,10 @@ long long differing(const Image& a, const Image& b) {
 
 TEST_CASE("upscale: a tiled run equals the untiled run bit for bit") {
   const Image in = textured(150, 130);
-  for (const char* render : {"linear", "cubic"})
+  for (const Render render : {Render::linear, Render::cubic})
     for (const char* cost : {"sederberg", "variance"})
       for (double scale : {3.0, 2.5}) {
-        CAPTURE(render);
+        CAPTURE(to_string(render));
         CAPTURE(cost);
         CAPTURE(scale);
         UpscaleOptions opt;

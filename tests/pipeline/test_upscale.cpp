@@ -71,20 +71,80 @@ TEST_CASE("upscale: degenerate shapes (1x1, a row, a column) work") {
   }
 }
 
-TEST_CASE("upscale: ImageBuf form sizes dst and reports errors on it") {
+TEST_CASE("upscale: the ImageBuf forms size dst from the options and report errors on it") {
   OIIO::ImageBuf src(OIIO::ImageSpec(8, 6, 3, OIIO::TypeDesc::FLOAT));
   const float grey[3] = {0.2f, 0.4f, 0.6f};
   OIIO::ImageBufAlgo::fill(src, grey);
+  UpscaleOptions options;
+  options.scale = 3;
   OIIO::ImageBuf dst;
-  REQUIRE(upscale(dst, src, 24, 18));
+  UpscaleStats stats;
+  REQUIRE(upscale(dst, src, options, {}, 0, &stats));
   CHECK(dst.spec().width == 24);
   CHECK(dst.spec().height == 18);
+  CHECK(dst.spec().nchannels == 3);
+  CHECK(stats.triangles == 2 * 7 * 5);
   float px[3];
   dst.getpixel(5, 5, px, 3);
   CHECK(px[1] == doctest::Approx(0.4f));
+  options.scale = 0;
+  options.width = 16;  // the height follows the aspect
+  const OIIO::ImageBuf by_width = upscale(src, options);
+  CHECK(by_width.spec().width == 16);
+  CHECK(by_width.spec().height == 12);
   OIIO::ImageBuf bad;
-  CHECK_FALSE(upscale(bad, src, 0, 0));
+  options.width = 0;  // no size at all
+  CHECK_FALSE(upscale(bad, src, options));
   CHECK(bad.has_error());
+  CHECK(bad.geterror().find("--scale") != std::string::npos);
+  options.scale = 2;
+  options.cost = "nope";
+  const OIIO::ImageBuf failed = upscale(src, options);
+  CHECK(failed.has_error());
+  CHECK(failed.geterror().find("unknown cost 'nope'") != std::string::npos);
+}
+
+TEST_CASE("upscale: an ROI is that window of the whole output, and nthreads does not change it") {
+  const Image in = test::sampled_image(19, 15, 3, [](double x, double y, int c) {
+    return 0.5 + 0.4 * std::sin(0.8 * x + 0.3 * c) * std::cos(0.5 * y + 0.2 * x);
+  });
+  const OIIO::ImageBuf src = buf_from_image(in);
+  UpscaleOptions options;
+  options.scale = 2.5;
+  const Image whole = upscale(in, 48, 38, options);  // round(19 * 2.5) x round(15 * 2.5)
+  const OIIO::ImageBuf full = upscale(src, options, {}, 1);
+  REQUIRE_FALSE(full.has_error());
+  CHECK(image_from_buf(full).pixels == whole.pixels);
+  for (int nthreads : {0, 1, 2}) {
+    CAPTURE(nthreads);
+    const OIIO::ROI roi(7, 30, 11, 38, 0, 1, 1, 3);  // reaches the bottom edge; channels 1 and 2
+    const OIIO::ImageBuf window = upscale(src, options, roi, nthreads);
+    REQUIRE_FALSE(window.has_error());
+    CHECK(window.roi() == OIIO::ROI(7, 30, 11, 38, 0, 1, 0, 2));
+    CHECK(window.spec().full_width == 48);
+    CHECK(window.spec().full_height == 38);
+    int differing = 0;
+    for (int y = roi.ybegin; y < roi.yend; ++y)
+      for (int x = roi.xbegin; x < roi.xend; ++x)
+        for (int c = 0; c < 2; ++c) differing += window.getchannel(x, y, 0, c) != whole.at(x, y, c + 1);
+    CHECK(differing == 0);
+  }
+  // Into an initialized dst: only the window is written.
+  OIIO::ImageBuf canvas(OIIO::ImageSpec(48, 38, 3, OIIO::TypeDesc::FLOAT));
+  const float red[3] = {1, 0, 0};
+  OIIO::ImageBufAlgo::fill(canvas, red);
+  REQUIRE(upscale(canvas, src, options, OIIO::ROI(0, 10, 0, 5)));
+  CHECK(canvas.getchannel(3, 4, 0, 0) == whole.at(3, 4, 0));
+  CHECK(canvas.getchannel(3, 4, 0, 0) != 1.0f);
+  CHECK(canvas.getchannel(10, 4, 0, 0) == 1.0f);
+  CHECK(canvas.getchannel(3, 5, 0, 0) == 1.0f);
+  // A window outside the output, and a negative thread count, are errors.
+  OIIO::ImageBuf outside;
+  CHECK_FALSE(upscale(outside, src, options, OIIO::ROI(40, 60, 0, 5)));
+  CHECK(outside.geterror().find("48x38 output") != std::string::npos);
+  OIIO::ImageBuf threads;
+  CHECK_FALSE(upscale(threads, src, options, {}, -1));
+  CHECK(threads.has_error());
 }
 
 TEST_CASE("upscale: on a 30 degree step edge, variance DDT is closer to the analytic edge than bicubic") {
@@ -95,7 +155,7 @@ TEST_CASE("upscale: on a 30 degree step edge, variance DDT is closer to the anal
   const Image hr = render_scene(scene, w * s, w * s);
   UpscaleOptions opt;
   opt.cost = "variance";
-  opt.render = "linear";  // the paper's surface
+  opt.render = Render::linear;  // the paper's surface
   const Image ddt = upscale(lr, w * s, w * s, opt);
   const Image bicubic = matlab_imresize_bicubic(lr, w * s, w * s);
   auto rmse = [&](const Image& img) {
@@ -112,8 +172,8 @@ TEST_CASE("upscale: both render modes reproduce the samples exactly at scale 3")
   std::uniform_real_distribution<float> u(0, 1);
   Image in(10, 8, 3);
   for (auto& v : in.pixels) v = u(rng);
-  for (const char* render : {"cubic", "linear"}) {
-    CAPTURE(render);
+  for (const Render render : {Render::cubic, Render::linear}) {
+    CAPTURE(to_string(render));
     UpscaleOptions opt;
     opt.render = render;
     opt.model.kind = AcquisitionModel::Kind::point;

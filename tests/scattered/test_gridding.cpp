@@ -163,10 +163,10 @@ TEST_CASE("grid_points: every optimizer of the image path, reproducible, a bad o
   o.cost = "variance";
   GridStats lawson, lookahead, anneal, anneal_again;
   const Image a = grid_points(p, v, 1, o, &lawson);
-  o.optimizer = "lookahead";
+  o.optimizer = Optimizer::lookahead;
   grid_points(p, v, 1, o, &lookahead);
   CHECK(lookahead.cost_after <= lawson.cost_after);  // look-ahead starts from Lawson's optimum
-  o.optimizer = "anneal";
+  o.optimizer = Optimizer::anneal;
   o.anneal.seed = 3;
   const Image b = grid_points(p, v, 1, o, &anneal);
   const Image c = grid_points(p, v, 1, o, &anneal_again);
@@ -174,9 +174,8 @@ TEST_CASE("grid_points: every optimizer of the image path, reproducible, a bad o
   CHECK(anneal.cost_after == anneal_again.cost_after);
   CHECK(std::equal(b.pixels.begin(), b.pixels.end(), c.pixels.begin(), c.pixels.end(),
                    [](float x, float y) { return x == y || (std::isnan(x) && std::isnan(y)); }));
-  o.optimizer = "genetic";
-  CHECK_THROWS_AS(grid_points(p, v, 1, o), Error);
-  o.optimizer = "anneal";
+  CHECK_THROWS_AS(optimizer_by_name("genetic"), Error);
+  o.optimizer = Optimizer::anneal;
   o.anneal.cooling = 1.0;
   CHECK_THROWS_AS(grid_points(p, v, 1, o), Error);
 }

@@ -1,0 +1,75 @@
+#pragma once
+// ddt::StageRunner — the glue every pipeline (images, the mesh view,
+// scattered points, volumes) shares around its stages (triangulate,
+// optimize, render, ...): each stage timed, its verbose lines prefixed with
+// the pipeline's label (e.g. "tile 2/5 "), the progress told which stage
+// runs, and the optimizer's summary and the stage seconds gathered into the
+// statistics parts of ddtscale/stats.hpp (StageSeconds, OptimizerSummary),
+// of which the pipelines' own stats are made.
+//
+// The lines themselves stay with each pipeline (they name what it counts);
+// the runner owns only what they had in common.
+
+#include "ddtscale/stats.hpp"
+#include "util/progress.hpp"
+#include "util/timing.hpp"
+
+#include <functional>
+#include <string>
+#include <utility>
+
+namespace ddt {
+
+// The Lawson settings every pipeline passes on from its options (which
+// all name them relative_tolerance and max_iterations): written once.
+template <class Lawson, class Options>
+Lawson lawson_options(const Options& options) {
+  Lawson lawson;
+  lawson.relative_tolerance = options.relative_tolerance;
+  lawson.max_iterations = options.max_iterations;
+  return lawson;
+}
+
+class StageRunner {
+ public:
+  using Log = std::function<void(const std::string&)>;
+
+  // log: verbose lines (may be empty); progress: may be null; label: the
+  // prefix of every line and stage name.
+  explicit StageRunner(Log log, Progress* progress = nullptr, std::string label = {})
+      : log_(std::move(log)), progress_(progress), label_(std::move(label)) {}
+
+  bool logging() const { return static_cast<bool>(log_); }
+  void log(const std::string& line) const {
+    if (log_) log_(label_ + line);
+  }
+  // The labelled log as a function, empty when there is none (for the
+  // optimizers' own lines).
+  Log logger() const {
+    if (!log_) return {};
+    return [this](const std::string& line) { log(line); };
+  }
+  Progress* progress() const { return progress_; }
+  const std::string& label() const { return label_; }
+
+  // Tells the progress that stage `name` starts, with `total` units of
+  // work expected (0: unknown).
+  void begin(const std::string& name, long long total = 0) const {
+    if (progress_) progress_->begin(label_ + name, total);
+  }
+
+  // Runs work() and returns its wall-clock seconds.
+  template <class Work>
+  double timed(Work&& work) const {
+    const Clock::time_point start = Clock::now();
+    std::forward<Work>(work)();
+    return seconds_since(start);
+  }
+
+ private:
+  Log log_;
+  Progress* progress_;
+  std::string label_;
+};
+
+}  // namespace ddt
