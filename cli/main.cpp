@@ -4,6 +4,7 @@
 
 #include "batch.hpp"
 #include "commands.hpp"
+#include "output_options.hpp"
 #include "whole_number.hpp"
 
 #include "eval/classic_resize.hpp"
@@ -170,6 +171,8 @@ int run_upscale(int argc, char** argv) {
                  "not fit in half the memory; -1: never)")
       ->check(whole_number(-1, std::numeric_limits<int>::max()));
   add_batch_options(app, batch);
+  OutputOptions output;
+  add_output_options(app, output);
   app.footer(
       "\nCosts (the paper's weighted content, sum over triangles of area * weight):\n"
       "  sederberg       weight = mean over the triangle's edges of |g1||g2| - g1.g2 (default)\n"
@@ -228,6 +231,7 @@ int run_upscale(int argc, char** argv) {
     if (!(args.tolerance >= 0.0 && args.tolerance <= 1.0))  // CLI::Range lets NaN through
       throw ddt::Error("--tolerance must be a number in [0, 1]");
     ddt::check_output_path(args.output, args.input);
+    ddt::check_encode_options(args.output, output.encode);
     ddt::PixelRegion roi;
     if (!args.mesh_roi.empty()) roi = ddt::parse_region(args.mesh_roi);
     if (!args.mesh_view.empty()) {
@@ -243,6 +247,7 @@ int run_upscale(int argc, char** argv) {
     if (args.threads > 0) {
       thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, args.threads);
       OIIO::attribute("threads", args.threads);
+      OIIO::attribute("exr_threads", args.threads);  // OpenEXR compresses blocks of rows in parallel
     }
     // A progress bar on a terminal for runs over a second, unless --quiet.
     ddt::Progress progress;
@@ -276,7 +281,8 @@ int run_upscale(int argc, char** argv) {
       output_size(args, header.width, header.height, out_w, out_h);
       compare_gap = std::max(2, out_w / 256);
       const int written_w = args.compare.empty() ? out_w : 2 * out_w + compare_gap;
-      ddt::check_image_writable(args.output, written_w, out_h, header.channels, header.format, header.alpha_channel);
+      ddt::check_image_writable(args.output, written_w, out_h, header.channels, header.format, header.alpha_channel,
+                                output.encode);
       if (!args.mesh_view.empty()) ddt::check_region(roi, header.width, header.height);
       ddt::check_memory_fits("this job", image_job_bytes(args, header, out_w, out_h));
     };
@@ -332,7 +338,7 @@ int run_upscale(int argc, char** argv) {
     progress.begin("write");
     const OIIO::ParamValueList metadata = ddt::scaled_metadata(
         file.metadata, double(out_w) / file.image.width, double(out_h) / file.image.height);
-    ddt::write_image(args.output, out, file.format, file.alpha_channel, &metadata);
+    ddt::write_image(args.output, out, file.format, file.alpha_channel, &metadata, output.encode);
     log("write: " + args.output + ", " + std::to_string(seconds_since(t0)) + " s");
     if (bar) bar->stop();
     if (!args.quiet && !args.verbose)

@@ -143,5 +143,23 @@ oiiotool "$work/in.png" "$work/in.png" --siappend -o "$work/two.tif"
 run_ok "two-page TIFF" "$work/two.tif" "$work/two_x2.png" --scale 2
 grep -q "pages or parts; only the first" "$work/err.txt" && ok || bad "two-page TIFF: no warning ($(cat "$work/err.txt"))"
 
+# Encoders (io/encode_options.hpp): a higher PNG level is no larger and
+# decodes to the same pixels; --half writes half floats; bad values fail in
+# one line.
+run_ok "png level 0" "$work/in.png" "$work/l0.png" --scale 3 --compression 0:none
+run_ok "png level 9" "$work/in.png" "$work/l9.png" --scale 3 --compression 9:adaptive
+[ "$(stat -c %s "$work/l9.png")" -le "$(stat -c %s "$work/l0.png")" ] && ok || bad "png level 9 larger than level 0"
+oiiotool "$work/l0.png" "$work/l9.png" --diff >/dev/null && ok || bad "png levels decode differently"
+run_ok "exr half" "$work/in.png" "$work/h.exr" --scale 2 --half --compression zip
+oiiotool --info "$work/h.exr" | grep -q half && ok || bad "--half: not a half EXR ($(oiiotool --info "$work/h.exr"))"
+run_ok "tiff lzw" "$work/in.png" "$work/c.tif" --scale 2 --compression lzw
+oiiotool --info -v "$work/c.tif" | grep -q 'compression: "lzw"' && ok || bad "tiff lzw not in the file"
+run_ok "jpeg quality" "$work/in.png" "$work/q.jpg" --scale 2 --quality 70
+run_fail "png level 10" "$work/in.png" "$work/o.png" --scale 2 --compression 10
+run_fail "exr method" "$work/in.png" "$work/o.exr" --scale 2 --compression zap
+run_fail "half png" "$work/in.png" "$work/o.png" --scale 2 --half
+run_fail "quality png" "$work/in.png" "$work/o.png" --scale 2 --quality 50
+run_fail "quality range" "$work/in.png" "$work/o.jpg" --scale 2 --quality 101
+
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

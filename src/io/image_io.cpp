@@ -202,14 +202,13 @@ void check_output_path(const std::string& output, const std::string& input, bool
 namespace {
 
 OIIO::ImageSpec output_spec(const std::string& path, int width, int height, int channels, SampleFormat source_format,
-                            int alpha_channel, const OIIO::ImageOutput& out) {
+                            int alpha_channel, const OIIO::ImageOutput& out, const EncodeOptions& encode) {
   OIIO::ImageSpec spec(width, height, channels, output_type(path, source_format, out));
   if (alpha_channel >= 0 && alpha_channel < channels) {
     spec.alpha_channel = alpha_channel;
     spec.channelnames[alpha_channel].assign(1, 'A');
   }
-  if (spec.format == OIIO::TypeDesc::FLOAT && lower_extension(path) == ".exr")
-    spec.attribute("compression", "zip");
+  apply_encode_options(out.format_name(), encode, spec);
   return spec;
 }
 
@@ -260,7 +259,7 @@ bool trial_at_full_size(const std::string& format) {
 }  // namespace
 
 void check_image_writable(const std::string& path, int width, int height, int channels, SampleFormat source_format,
-                          int alpha_channel) {
+                          int alpha_channel, const EncodeOptions& encode) {
   auto out = OIIO::ImageOutput::create(path);
   if (!out) throw Error("cannot write '" + path + "': no image format for extension '" +
                         fs::path(path).extension().string() + "'");
@@ -272,10 +271,12 @@ void check_image_writable(const std::string& path, int width, int height, int ch
   if (format == "jpeg" && (width > 65500 || height > 65500))
     throw Error(refuse + "JPEG stores at most 65500 pixels a side, the image is " + std::to_string(width) + "x" +
                 std::to_string(height));
+  const OIIO::ImageSpec checked = output_spec(path, 1, 1, channels, source_format, alpha_channel, *out, encode);
+  (void)checked;  // the encoding options, checked against the sample type
   if (!out->supports("ioproxy")) return;  // a trial would create a file; its errors come at the write
   const bool full = trial_at_full_size(format);
   const OIIO::ImageSpec spec = output_spec(path, full ? width : std::min(width, 16), full ? height : std::min(height, 16),
-                                           channels, source_format, alpha_channel, *out);
+                                           channels, source_format, alpha_channel, *out, encode);
   std::vector<unsigned char> scratch;
   OIIO::Filesystem::IOVecOutput memory(scratch);
   out->set_ioproxy(&memory);
@@ -285,7 +286,7 @@ void check_image_writable(const std::string& path, int width, int height, int ch
 }
 
 void write_image(const std::string& path, const Image& image, SampleFormat source_format, int alpha_channel,
-                 const OIIO::ParamValueList* metadata) {
+                 const OIIO::ParamValueList* metadata, const EncodeOptions& encode) {
   if (image.empty()) throw Error("cannot write '" + path + "': the image is empty");
   auto out = OIIO::ImageOutput::create(path);
   if (!out) throw Error("cannot write '" + path + "': no image format for extension '" +
@@ -302,7 +303,7 @@ void write_image(const std::string& path, const Image& image, SampleFormat sourc
     buf.specmod().attribute("Orientation", turn);
     OIIO::ParamValueList upright = *metadata;
     upright.remove("Orientation");
-    write_image(path, image_from_buf(OIIO::ImageBufAlgo::reorient(buf)), source_format, alpha_channel, &upright);
+    write_image(path, image_from_buf(OIIO::ImageBufAlgo::reorient(buf)), source_format, alpha_channel, &upright, encode);
     return;
   }
   // libpng refuses an ICC profile it judges malformed (and with it the
@@ -312,19 +313,19 @@ void write_image(const std::string& path, const Image& image, SampleFormat sourc
     try {
       OIIO::ParamValueList checked = *metadata;
       checked.attribute("ddtscale:icc_checked", 1);
-      write_image(path, image, source_format, alpha_channel, &checked);
+      write_image(path, image, source_format, alpha_channel, &checked, encode);
       return;
     } catch (const Error& e) {
       if (std::string(e.what()).find("profile") == std::string::npos) throw;
     }
     OIIO::ParamValueList without = *metadata;
     without.remove("ICCProfile");
-    write_image(path, image, source_format, alpha_channel, &without);
+    write_image(path, image, source_format, alpha_channel, &without, encode);
     return;
   }
-  check_image_writable(path, image.width, image.height, image.channels, source_format, alpha_channel);
+  check_image_writable(path, image.width, image.height, image.channels, source_format, alpha_channel, encode);
   OIIO::ImageSpec spec =
-      output_spec(path, image.width, image.height, image.channels, source_format, alpha_channel, *out);
+      output_spec(path, image.width, image.height, image.channels, source_format, alpha_channel, *out, encode);
   // OpenImageIO 2.4's TIFF writer, through an IOProxy (as here), writes a
   // file without its ImageLength tag when EXIF or GPS tags are given (they go
   // to a sub-directory): those are left out of TIFF outputs.
