@@ -10,6 +10,7 @@
 #include "eval/classic_resize.hpp"
 #include "eval/comparison.hpp"
 #include "core/costs.hpp"
+#include "io/band_writer.hpp"
 #include "util/error.hpp"
 #include "io/image_io.hpp"
 #include "image/image_mesh.hpp"
@@ -80,8 +81,11 @@ void output_size(const Arguments& args, int in_w, int in_h, int& out_w, int& out
 // and the output as floats (with --compare also the classic half and the
 // joined image), and the band being triangulated (about 200 bytes an input
 // pixel, bounded by the tiling to half the physical memory).
-double image_job_bytes(const Arguments& args, const ddt::ImageHeader& header, int out_w, int out_h) {
-  const double in_pixels = double(header.width) * header.height, out_pixels = double(out_w) * out_h;
+double image_job_bytes(const Arguments& args, const ddt::ImageHeader& header, int out_w, int out_h, bool streamed) {
+  const double in_pixels = double(header.width) * header.height;
+  // Streamed under the point model, a few bands of the output are held.
+  const bool bands = streamed && args.compare.empty() && args.model == "point";
+  const double out_pixels = bands ? std::min(double(out_w) * out_h, 4.0 * 8192 * out_w) : double(out_w) * out_h;
   const double images = 4.0 * header.channels * (in_pixels + out_pixels * (args.compare.empty() ? 1 : 4));
   const bool tiled = args.optimizer == "lawson" && args.tile_rows >= 0;
   const double band = 200.0 * in_pixels;
@@ -284,7 +288,7 @@ int run_upscale(int argc, char** argv) {
       ddt::check_image_writable(args.output, written_w, out_h, header.channels, header.format, header.alpha_channel,
                                 output.encode);
       if (!args.mesh_view.empty()) ddt::check_region(roi, header.width, header.height);
-      ddt::check_memory_fits("this job", image_job_bytes(args, header, out_w, out_h));
+      ddt::check_memory_fits("this job", image_job_bytes(args, header, out_w, out_h, !output.no_stream));
     };
     ddt::ImageFile file = ddt::read_image(args.input, limits);
     log("read: " + args.input + ", " + std::to_string(file.image.width) + "x" + std::to_string(file.image.height) +
@@ -308,8 +312,20 @@ int run_upscale(int argc, char** argv) {
     if (args.verbose) options.log = log;
     options.progress = &progress;
     options.tile_rows = args.tile_rows;
+    // Streamed (io/band_writer.hpp): bands of output rows are encoded as
+    // they are rendered, on a thread of their own; --compare joins two
+    // whole images, so it writes at the end.
+    const OIIO::ParamValueList metadata = ddt::scaled_metadata(
+        file.metadata, double(out_w) / file.image.width, double(out_h) / file.image.height);
+    std::unique_ptr<ddt::ImageBandWriter> writer;
+    if (!output.no_stream && args.compare.empty()) {
+      writer = std::make_unique<ddt::ImageBandWriter>(args.output, out_w, out_h, file.image.channels, file.format,
+                                                      file.alpha_channel, &metadata, output.encode);
+      options.output_rows = [&writer](ddt::Image rows, int first_row) { writer->write(std::move(rows), first_row); };
+    }
     ddt::UpscaleStats stats;
     ddt::Image out = ddt::upscale(file.image, out_w, out_h, options, &stats);
+    const int written_w = writer ? out_w : out.width, written_h = writer ? out_h : out.height;
     if (stats.consistency_skipped && !args.quiet)
       std::cerr << "ddtscale: warning: the image was processed in " << stats.tiles
                 << " tiles, where --model " << args.model << " is not applied (plain interpolation, --model point)\n";
@@ -336,13 +352,12 @@ int run_upscale(int argc, char** argv) {
 
     t0 = std::chrono::steady_clock::now();
     progress.begin("write");
-    const OIIO::ParamValueList metadata = ddt::scaled_metadata(
-        file.metadata, double(out_w) / file.image.width, double(out_h) / file.image.height);
-    ddt::write_image(args.output, out, file.format, file.alpha_channel, &metadata, output.encode);
+    if (writer) writer->finish();
+    else ddt::write_image(args.output, out, file.format, file.alpha_channel, &metadata, output.encode);
     log("write: " + args.output + ", " + std::to_string(seconds_since(t0)) + " s");
     if (bar) bar->stop();
     if (!args.quiet && !args.verbose)
-      std::cerr << args.output << ": " << out.width << "x" << out.height << "\n";  // as written (--compare: both halves)
+      std::cerr << args.output << ": " << written_w << "x" << written_h << "\n";  // as written (--compare: both halves)
     return 0;
   } catch (const ddt::Error& e) {
     std::cerr << "ddtscale: " << e.what() << "\n";

@@ -16,6 +16,10 @@ void add_output_options(CLI::App& app, OutputOptions& output) {
   app.add_flag("--half", output.encode.half,
                "EXR: 16-bit half-float samples (half the bytes; 11 bits of precision, plenty for 8- and 10-bit "
                "inputs) instead of 32-bit floats");
+  app.add_option("--tile-size", output.encode.tile,
+                 "TIFF and EXR: write tiles of N x N pixels (a multiple of 16, e.g. 512) instead of rows: what "
+                 "viewers of very large images read fastest (TIFF over 4 GB becomes BigTIFF by itself)")
+      ->check(whole_number(16, 65536));
   app.add_flag("--no-stream", output.no_stream,
                "hold the whole output in memory and write it at the end, instead of writing it by bands of rows "
                "as they are rendered (same file, bit for bit; more memory)");

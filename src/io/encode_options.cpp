@@ -94,6 +94,14 @@ void apply_encode_options(const std::string& format_name, const EncodeOptions& o
   const bool float_tiff = format == "tiff" && spec.format.basetype == OIIO::TypeDesc::FLOAT;
   if (options.half && format != "openexr" && !float_tiff)
     throw Error("--half is for EXR output (and TIFF of float images)");
+  if (options.tile != 0 && format != "tiff" && format != "openexr")
+    throw Error("--tile-size is for TIFF and EXR output");
+  if (options.tile != 0 && (options.tile < 16 || options.tile % 16 != 0 || options.tile > 65536))
+    throw Error("--tile-size must be a multiple of 16 from 16 to 65536");
+  if (options.tile != 0) {
+    spec.tile_width = spec.tile_height = options.tile;
+    spec.tile_depth = 1;
+  }
   if (format == "jpeg") {
     const int quality = options.quality > 0 ? options.quality : 90;
     spec.attribute("compression", "jpeg:" + std::to_string(quality));

@@ -14,6 +14,9 @@
 //   refuse it.
 // half: EXR (and float TIFF) samples as 16-bit half floats instead of 32-bit
 //   floats; refused for formats without half samples.
+// tile: TIFF and EXR written in tiles of tile x tile pixels (a multiple of
+//   16) instead of scanlines or strips: what viewers of huge images read
+//   fastest; 0: scanlines.
 //
 // Errors: check_encode_options throws ddt::Error with a one-line message
 // naming the option and what it accepts.
@@ -28,6 +31,7 @@ struct EncodeOptions {
   std::string compression;
   int quality = 0;
   bool half = false;
+  int tile = 0;
 };
 
 // OpenImageIO's format name of an output path ("png", "openexr", "tiff",

@@ -1,5 +1,6 @@
 #include "io/image_io.hpp"
 
+#include "io/oiio_output.hpp"
 #include "util/error.hpp"
 
 #include <OpenImageIO/imagebufalgo.h>
@@ -19,6 +20,9 @@
 namespace fs = std::filesystem;
 
 namespace ddt {
+using detail::first_line;
+using detail::QuietLibraries;
+using detail::StagedFileProxy;
 namespace {
 
 SampleFormat sample_format_of(const OIIO::TypeDesc& t) {
@@ -30,13 +34,6 @@ SampleFormat sample_format_of(const OIIO::TypeDesc& t) {
     case OIIO::TypeDesc::HALF: return SampleFormat::half;
     default: return SampleFormat::float32;
   }
-}
-
-std::string first_line(std::string s) {
-  while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
-  auto nl = s.find('\n');
-  if (nl != std::string::npos) s = s.substr(0, nl);
-  return s;
 }
 
 std::string lower_extension(const std::string& path) {
@@ -61,38 +58,6 @@ OIIO::TypeDesc output_type(const std::string& path, SampleFormat source, const O
   (void)out;
   return wanted;
 }
-
-// libpng, under OpenImageIO, prints its own "libpng error: ..." (and
-// warnings) on stderr before OpenImageIO hands the same error to us; we
-// report it once, so stderr points at /dev/null while a file is read or
-// written (one line per bad input). Nested and concurrent guards share the
-// redirection; the last one out restores stderr.
-class QuietLibraries {
- public:
-  QuietLibraries() {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    if (users_++ > 0) return;
-    std::fflush(stderr);
-    saved_ = ::dup(STDERR_FILENO);
-    const int null = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
-    if (saved_ >= 0 && null >= 0) ::dup2(null, STDERR_FILENO);
-    if (null >= 0) ::close(null);
-  }
-  ~QuietLibraries() {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    if (--users_ > 0) return;
-    std::fflush(stderr);
-    if (saved_ >= 0) ::dup2(saved_, STDERR_FILENO), ::close(saved_);
-    saved_ = -1;
-  }
-  QuietLibraries(const QuietLibraries&) = delete;
-  QuietLibraries& operator=(const QuietLibraries&) = delete;
-
- private:
-  static inline std::mutex mutex_;
-  static inline int users_ = 0;
-  static inline int saved_ = -1;
-};
 
 // Attributes of an input carried to the output (ImageFile::metadata); the
 // rest describe the file's encoding (compression, planar layout, plugin
@@ -212,41 +177,6 @@ OIIO::ImageSpec output_spec(const std::string& path, int width, int height, int 
   return spec;
 }
 
-// OIIO's writer goes through this proxy into a file of a StagedOutput: a
-// failed write is remembered there (and reported after close) instead of
-// being returned to a plugin that may ignore it (libpng) or exit() on it
-// (libjpeg).
-class StagedFileProxy final : public OIIO::Filesystem::IOProxy {
- public:
-  StagedFileProxy(StagedOutput& stage, int file, const std::string& name)
-      : IOProxy(name, Write), stage_(stage), file_(file) {}
-  const char* proxytype() const override { return "ddtscale-staged"; }
-  void close() override { m_mode = Closed; }  // the StagedOutput syncs and closes
-  bool seek(int64_t offset) override {
-    m_pos = offset;
-    return offset >= 0;
-  }
-  size_t read(void* buf, size_t size) override {
-    const size_t n = stage_.read_at(file_, buf, size, m_pos);
-    m_pos += static_cast<int64_t>(n);
-    return n;
-  }
-  size_t write(const void* buf, size_t size) override {
-    stage_.write_at(file_, buf, size, m_pos);
-    m_pos += static_cast<int64_t>(size);
-    return size;
-  }
-  size_t pread(void* buf, size_t size, int64_t offset) override { return stage_.read_at(file_, buf, size, offset); }
-  size_t pwrite(const void* buf, size_t size, int64_t offset) override {
-    return stage_.write_at(file_, buf, size, offset);
-  }
-  size_t size() const override { return static_cast<size_t>(stage_.size(file_)); }
-
- private:
-  StagedOutput& stage_;
-  int file_;
-};
-
 // Writers whose open() validates the size and that encode row by row, so a
 // trial open at the full size costs nothing (checked for OIIO 2.4: the
 // others, e.g. GIF, WebP, JPEG 2000, DPX, encode the whole image at close).
@@ -283,6 +213,25 @@ void check_image_writable(const std::string& path, int width, int height, int ch
   const QuietLibraries quiet;
   if (!out->open(fs::path(path).filename().string(), spec)) throw Error(refuse + first_line(out->geterror()));
   out.reset();  // close: a few bytes of header into `scratch`
+}
+
+OIIO::ImageSpec detail::written_spec(const std::string& path, int width, int height, int channels,
+                                     SampleFormat source_format, int alpha_channel,
+                                     const OIIO::ParamValueList* metadata, const EncodeOptions& encode,
+                                     const OIIO::ImageOutput& out) {
+  OIIO::ImageSpec spec = output_spec(path, width, height, channels, source_format, alpha_channel, out, encode);
+  // OpenImageIO 2.4's TIFF writer, through an IOProxy (as here), writes a
+  // file without its ImageLength tag when EXIF or GPS tags are given (they go
+  // to a sub-directory): those are left out of TIFF outputs.
+  const bool tiff = std::string(out.format_name()) == "tiff";
+  if (metadata)
+    for (const OIIO::ParamValue& p : *metadata) {
+      const std::string name = p.name().string();
+      if (tiff && (name.rfind("Exif:", 0) == 0 || name.rfind("GPS:", 0) == 0)) continue;
+      if (name.rfind("ddtscale:", 0) == 0) continue;
+      spec.extra_attribs.add_or_replace(p);
+    }
+  return spec;
 }
 
 void write_image(const std::string& path, const Image& image, SampleFormat source_format, int alpha_channel,
@@ -324,19 +273,8 @@ void write_image(const std::string& path, const Image& image, SampleFormat sourc
     return;
   }
   check_image_writable(path, image.width, image.height, image.channels, source_format, alpha_channel, encode);
-  OIIO::ImageSpec spec =
-      output_spec(path, image.width, image.height, image.channels, source_format, alpha_channel, *out, encode);
-  // OpenImageIO 2.4's TIFF writer, through an IOProxy (as here), writes a
-  // file without its ImageLength tag when EXIF or GPS tags are given (they go
-  // to a sub-directory): those are left out of TIFF outputs.
-  const bool tiff = std::string(out->format_name()) == "tiff";
-  if (metadata)
-    for (const OIIO::ParamValue& p : *metadata) {
-      const std::string name = p.name().string();
-      if (tiff && (name.rfind("Exif:", 0) == 0 || name.rfind("GPS:", 0) == 0)) continue;
-      if (name.rfind("ddtscale:", 0) == 0) continue;
-      spec.extra_attribs.add_or_replace(p);
-    }
+  const OIIO::ImageSpec spec = detail::written_spec(path, image.width, image.height, image.channels, source_format,
+                                                    alpha_channel, metadata, encode, *out);
 
   StagedOutput stage(path);
   const std::string name = stage.target().filename().string();
