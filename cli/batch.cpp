@@ -84,8 +84,19 @@ std::vector<std::string> expand_inputs(const std::vector<std::string>& inputs, s
   return files;
 }
 
-// The options given on the command line, as arguments for the single-file
-// command (batch options, positionals and --help left out).
+// The last non-empty line of `path`, without the program's "ddtscale: " prefix.
+std::string last_line(const std::string& path) {
+  std::ifstream in(path);
+  std::string line, last;
+  while (std::getline(in, line))
+    if (!line.empty()) last = line;
+  const std::string prefix = "ddtscale: ";
+  if (last.rfind(prefix, 0) == 0) last = last.substr(prefix.size());
+  return last;
+}
+
+}  // namespace
+
 std::vector<std::string> forwarded_options(const CLI::App& app) {
   static const std::set<std::string> batch_only = {"--outdir", "--suffix", "--format", "--overwrite", "--jobs",
                                                    "--help", "--quiet"};
@@ -100,19 +111,6 @@ std::vector<std::string> forwarded_options(const CLI::App& app) {
   return args;
 }
 
-// The last non-empty line of `path`, without the program's "ddtscale: " prefix.
-std::string last_line(const std::string& path) {
-  std::ifstream in(path);
-  std::string line, last;
-  while (std::getline(in, line))
-    if (!line.empty()) last = line;
-  const std::string prefix = "ddtscale: ";
-  if (last.rfind(prefix, 0) == 0) last = last.substr(prefix.size());
-  return last;
-}
-
-}  // namespace
-
 void add_batch_options(CLI::App& app, BatchOptions& batch) {
   app.add_option("--outdir", batch.outdir,
                  "many inputs: every positional argument is an input (files, directories, globs), each written "
@@ -124,7 +122,8 @@ void add_batch_options(CLI::App& app, BatchOptions& batch) {
       ->check(CLI::Range(0, 4096));
 }
 
-int run_batch(const CLI::App& app, const std::vector<std::string>& inputs, const BatchOptions& batch, bool quiet) {
+int run_batch(const std::vector<std::string>& forwarded, const std::vector<std::string>& inputs,
+              const BatchOptions& batch, bool quiet) {
   const auto start = std::chrono::steady_clock::now();
   std::error_code ec;
   fs::create_directories(batch.outdir, ec);
@@ -157,9 +156,10 @@ int run_batch(const CLI::App& app, const std::vector<std::string>& inputs, const
 
   const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   const int parallel = std::max(1, std::min<int>(batch.jobs > 0 ? batch.jobs : cores, static_cast<int>(jobs.size())));
-  std::vector<std::string> options = forwarded_options(app);
+  std::vector<std::string> options = forwarded;
   options.push_back("--quiet");
-  if (app.count("--threads") == 0) {
+  const auto threads_given = [](const std::string& option) { return option.rfind("--threads=", 0) == 0; };
+  if (std::none_of(forwarded.begin(), forwarded.end(), threads_given)) {
     options.push_back("--threads");
     options.push_back(std::to_string(std::max(1, cores / parallel)));
   }

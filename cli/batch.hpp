@@ -28,6 +28,12 @@ struct BatchOptions {
 // Adds --outdir, --suffix, --format, --overwrite and --jobs to `app`.
 void add_batch_options(CLI::App& app, BatchOptions& batch);
 
-// Runs the parsed command line `app` (the single-file command's options,
-// its positionals `inputs`) over the files; `quiet`: no progress or summary.
-int run_batch(const CLI::App& app, const std::vector<std::string>& inputs, const BatchOptions& batch, bool quiet);
+// The options given on the parsed command line `app`, as arguments for the
+// single-file command (--name=value; batch options, positionals, --help and
+// --quiet left out).
+std::vector<std::string> forwarded_options(const CLI::App& app);
+
+// Runs the single-file command with the options `forwarded` over the files
+// `inputs` (the positionals); `quiet`: no progress or summary.
+int run_batch(const std::vector<std::string>& forwarded, const std::vector<std::string>& inputs,
+              const BatchOptions& batch, bool quiet);

@@ -1,0 +1,192 @@
+#include "upscale_arguments.hpp"
+
+#include "io/encode_options.hpp"
+
+#include "commands.hpp"
+#include "whole_number.hpp"
+
+#include "consistency/acquisition_model.hpp"
+#include "core/costs.hpp"
+#include "eval/classic_resize.hpp"
+#include "image/mesh_view.hpp"
+#include "io/image_io.hpp"
+#include "pipeline/output_size.hpp"
+#include "util/error.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cstring>
+#include <limits>
+
+UpscaleCommandLine parse_upscale_command_line(int argc, const char* const* argv) {
+  UpscaleCommandLine line;
+  CLI::App app{"ddtscale: enlarge an image by data-dependent triangulation (DDT).\n"
+               "The pixels become a heightfield, triangulated (Delaunay, then edge flips that lower a cost)\n"
+               "so that long thin triangles follow the edges; the surface on the mesh is rendered at the\n"
+               "new size. Volumes: give .nrrd/.nhdr files (`ddtscale in.nrrd x.nrrd --help`). Subcommands:\n"
+               "`ddtscale eval --help` (benchmark), `ddtscale grid --help` (scattered points),\n"
+               "`ddtscale scene --help` (test scenes), `ddtscale volume-eval --help`, `ddtscale volume-field --help`.",
+               "ddtscale"};
+  app.add_option("input", line.args.input, "input image (PNG, JPEG, TIFF, EXR, ... anything OpenImageIO reads)")->required();
+  app.add_option("output", line.args.output,
+                 "output image; format from the extension (EXR keeps float, PNG/TIFF keep the input's bit depth)");
+  // Many files at once (cli/batch.hpp): with --outdir every positional is an input.
+  std::vector<std::string> more_inputs;
+  app.add_option("more", more_inputs)->group("");
+  app.add_option("-s,--scale", line.args.scale, "magnification, any real > 0 (e.g. 10 or 2.5)");
+  app.add_option("-W,--width", line.args.width, "output width in pixels (height follows the aspect unless given)")
+      ->check(whole_number(1, std::numeric_limits<int>::max()));
+  app.add_option("-H,--height", line.args.height, "output height in pixels (width follows the aspect unless given)")
+      ->check(whole_number(1, std::numeric_limits<int>::max()));
+  app.add_option("--cost", line.args.cost, "flip cost: " + ddt::cost_names_joined())->capture_default_str();
+  app.add_option("--cost-channel", line.args.cost_channel,
+                 "what drives the flips: sum (of per-channel costs) or luma (luminance only)")
+      ->check(CLI::IsMember({"sum", "luma"}))
+      ->capture_default_str();
+  app.add_option("--render", line.args.render,
+                 "surface drawn on the mesh: cubic (smooth Bézier patches, default) or linear (the paper's)")
+      ->check(CLI::IsMember(ddt::render_names()))
+      ->capture_default_str();
+  app.add_option("--slopes", line.args.slopes, "cubic render: slope limiter of the vertex gradients: mc4, mc, central, minmod")
+      ->check(CLI::IsMember({"mc4", "mc", "central", "minmod"}))
+      ->capture_default_str();
+  app.add_option("--model", line.args.model,
+                 "how an input pixel was made: box (its area's average, default), gauss:SIGMA (the area blurred "
+                 "by a Gaussian PSF of SIGMA input pixels), bicubic (MATLAB's antialiased imresize, the SR "
+                 "benchmark's) or point (a sample at its centre: the plain interpolation). The output, mapped "
+                 "back by the model, reproduces the input")
+      ->check([](const std::string& text) {
+        try {
+          ddt::parse_acquisition_model(text);
+          return std::string();
+        } catch (const std::exception& e) {
+          return std::string(e.what());
+        }
+      })
+      ->capture_default_str();
+  app.add_flag("--no-step-edges", line.args.no_step_edges,
+               "box model: keep the smooth reconstruction where one straight edge between two flat levels "
+               "explains a pixel's 3x3 neighbourhood (by default it is drawn as that edge, sharp to the output "
+               "pixel)");
+  app.add_flag("--no-optimize", line.args.no_optimize, "skip the flips: render the initial Delaunay mesh");
+  app.add_option("--tolerance", line.args.tolerance, "a flip must lower the local cost by more than this fraction")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  app.add_option("--max-pixels", line.args.max_pixels, "refuse outputs with more pixels than this")
+      ->check(whole_number(1))
+      ->capture_default_str();
+  app.add_option("--max-input-pixels", line.args.max_input_pixels,
+                 "refuse inputs with more pixels than this, from the file's header before decoding (default: "
+                 "the physical memory / 32)")
+      ->check(whole_number(1))
+      ->capture_default_str();
+  app.add_option("--compare", line.args.compare,
+                 "write one image: this classic method (OpenImageIO filter) on the left, DDT on the right")
+      ->check(CLI::IsMember(ddt::classic_methods()));
+  app.add_option("--mesh", line.args.mesh_view,
+                 "also draw the optimized triangulation over the input (.svg, or .png and other raster formats)");
+  app.add_option("--mesh-roi", line.args.mesh_roi,
+                 "x,y,w,h: the input region the mesh view shows (default: all of an image up to 256x256, "
+                 "else its central 128x128)");
+  bool list_costs = false;
+  app.add_flag("--list-costs", list_costs, "print the cost names, one a line, and exit");
+  add_optimizer_options(app, line.args.optimizer, line.args.anneal);
+  app.add_flag("-v,--verbose", line.args.verbose, "report iterations, flips, cost and the time of each stage");
+  app.add_flag("-q,--quiet", line.args.quiet, "print nothing but errors (and no progress bar)");
+  app.add_option("--threads", line.args.threads, "threads to use (default: all cores; more than the cores are not used)")
+      ->check(whole_number(0, 4096));
+  app.add_option("--tile-rows", line.args.tile_rows,
+                 "process the image in bands of this many input rows (same output; default: only when it would "
+                 "not fit in half the memory; -1: never)")
+      ->check(whole_number(-1, std::numeric_limits<int>::max()));
+  add_batch_options(app, line.batch);
+  add_output_options(app, line.args.writing);
+  app.footer(
+      "\nCosts (the paper's weighted content, sum over triangles of area * weight):\n"
+      "  sederberg       weight = mean over the triangle's edges of |g1||g2| - g1.g2 (default)\n"
+      "  variance        weight = variance of the three vertex values\n"
+      "  sederberg-edge  classic 2D DDT: sum over interior edges of |g1||g2| - g1.g2\n"
+      "  abn, jnd, dlp, dp   weight = mean over the triangle's edges of a classic cost of Dyn, Levin and\n"
+      "                  Rippa (1990): angle between normals, jump in normal derivatives, deviation from\n"
+      "                  linear polynomials, distance from planes\n"
+      "  abn-edge, jnd-edge, dlp-edge, dp-edge   the same costs as plain sums over interior edges\n"
+      "Optimizers: lawson flips while a flip lowers the cost; anneal (simulated annealing) also takes\n"
+      "flips that raise it, with probability exp(-increase / T), T cooling geometrically from T0 over\n"
+      "--anneal-steps steps of --anneal-moves proposals per edge, then finishes with lawson; lookahead\n"
+      "runs lawson, then also keeps a cost-raising flip when a flip of a neighbouring edge then lowers\n"
+      "the total by more, alternating with lawson until neither finds a move.\n"
+      "Render: cubic (default) draws a cubic Bézier patch on each triangle from the vertex values and\n"
+      "slope-limited gradients (--slopes), smooth like bicubic inside regions, no ringing at edges;\n"
+      "linear draws the paper's piecewise-linear surface. Both reproduce the input samples exactly.\n"
+      "Alpha is interpolated on the same mesh and never drives flips.\n"
+      "Output pixel (X, Y) samples the input at ((X + 0.5) / sx, (Y + 0.5) / sy); outside the samples'\n"
+      "hull it takes the value of the nearest hull point.\n"
+      "Examples:\n"
+      "  ddtscale in.png out.exr --scale 10\n"
+      "  ddtscale in.png side.png --scale 8 --compare bicubic --mesh mesh.svg --mesh-roi 40,40,64,64\n"
+      "  ddtscale a.png b.jpg scans/ 'more/*.tif' --outdir out/ --suffix _x4 --scale 4");
+  // --list-costs needs no files: answer it before the positional checks.
+  for (int i = 1; i < argc; ++i)
+    if (std::strcmp(argv[i], "--list-costs") == 0) {
+      line.action = UpscaleCommandLine::Action::list_costs;
+      return line;
+    }
+  try {
+    app.parse(argc, argv);
+    line.args.scale_given = app.count("--scale") > 0;
+    line.args.width_given = app.count("--width") > 0;
+    line.args.height_given = app.count("--height") > 0;
+  } catch (const CLI::CallForHelp&) {
+    line.action = UpscaleCommandLine::Action::help;
+    line.text = app.help();
+    return line;
+  } catch (const CLI::ParseError& e) {
+    line.action = UpscaleCommandLine::Action::usage_error;
+    line.text = std::string(e.what()) + " (see ddtscale --help)";
+    return line;
+  }
+  if (!line.batch.outdir.empty()) {
+    line.action = UpscaleCommandLine::Action::batch;
+    line.batch_inputs = {line.args.input};
+    if (!line.args.output.empty()) line.batch_inputs.push_back(line.args.output);
+    line.batch_inputs.insert(line.batch_inputs.end(), more_inputs.begin(), more_inputs.end());
+    line.forwarded = forwarded_options(app);
+    return line;
+  }
+  if (line.args.output.empty() || !more_inputs.empty()) {
+    line.action = UpscaleCommandLine::Action::usage_error;
+    line.text = "give an input and an output image (many inputs: --outdir DIR) (see ddtscale --help)";
+  }
+  return line;
+}
+
+void validate_arguments(const UpscaleArguments& args) {
+  ddt::find_cost(args.cost);  // fail fast on a typo
+  if (!args.output.empty()) ddt::check_encode_options(args.output, args.writing.encode);
+  if (!(args.tolerance >= 0.0 && args.tolerance <= 1.0))  // CLI::Range lets NaN through
+    throw ddt::Error("--tolerance must be a number in [0, 1]");
+  if (!args.mesh_roi.empty()) ddt::parse_region(args.mesh_roi);
+  if (!args.mesh_view.empty() && args.mesh_view == args.output)
+    throw ddt::Error("--mesh must name a file other than the output");
+}
+
+void output_size(const UpscaleArguments& args, int in_w, int in_h, int& out_w, int& out_h) {
+  ddt::SizeRequest request;
+  if (args.scale_given) request.scale = args.scale;
+  if (args.width_given) request.width = args.width;
+  if (args.height_given) request.height = args.height;
+  request.max_pixels = args.max_pixels;
+  ddt::output_size(request, in_w, in_h, out_w, out_h);
+}
+
+double image_job_bytes(const UpscaleArguments& args, const ddt::ImageHeader& header, int out_w, int out_h) {
+  const double in_pixels = double(header.width) * header.height;
+  // Streamed under the point model, a few bands of the output are held.
+  const bool bands = !args.writing.no_stream && args.compare.empty() && args.model == "point";
+  const double out_pixels = bands ? std::min(double(out_w) * out_h, 4.0 * 8192 * out_w) : double(out_w) * out_h;
+  const double images = 4.0 * header.channels * (in_pixels + out_pixels * (args.compare.empty() ? 1 : 4));
+  const bool tiled = args.optimizer == "lawson" && args.tile_rows >= 0;
+  const double band = 200.0 * in_pixels;
+  return images + (tiled ? std::min(band, 0.5 * double(ddt::physical_memory())) : band);
+}

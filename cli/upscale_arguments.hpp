@@ -1,0 +1,92 @@
+#pragma once
+// The image command's command line (`ddtscale in.png out.png --scale 4 ...`)
+// as a typed job description, parsed and validated without touching a file,
+// so the parser can be fuzzed in-process (fuzz/fuzz_cli.cpp) and the run
+// (cli/main.cpp) starts from checked values.
+//
+//   parse_upscale_command_line  argv -> what to do (run, batch, help, ...);
+//                               CLI11's checks (types, ranges, names)
+//   validate_arguments          the checks CLI11 cannot make (NaN
+//                               tolerance, unknown cost, malformed --mesh-roi,
+//                               --mesh naming the output): ddt::Error
+//   output_size, image_job_bytes  the job's size once the input's header
+//                               is known
+// None of them reads or writes a file, prints, or starts a thread.
+
+#include "batch.hpp"
+#include "output_options.hpp"
+
+#include "image/annealing.hpp"
+#include "pipeline/upscale.hpp"
+#include "util/size_limits.hpp"
+
+#include <string>
+#include <vector>
+
+namespace ddt {
+struct ImageHeader;
+}
+
+// The single-file image job, as given on the command line (defaults are the
+// command's).
+struct UpscaleArguments {
+  std::string input, output;
+  double scale = 0;
+  bool scale_given = false;
+  bool width_given = false, height_given = false;  // on the command line
+  int width = 0, height = 0;
+  std::string cost = "sederberg";
+  std::string cost_channel = "sum";
+  bool no_optimize = false;
+  double tolerance = 1e-9;
+  long long max_pixels = ddt::default_max_pixels;
+  long long max_input_pixels = ddt::default_max_input_pixels();
+  bool verbose = false;
+  bool quiet = false;
+  int threads = 0;    // 0: all cores
+  int tile_rows = 0;  // 0: automatic, < 0: never
+  std::string optimizer = "lawson";
+  ddt::AnnealOptions anneal;  // --seed and the --anneal-* schedule
+  std::string render = "cubic";
+  std::string slopes = "mc4";
+  std::string model = "box";
+  bool no_step_edges = false;
+  std::string compare;    // classic method shown left of DDT, or empty
+  std::string mesh_view;  // path of the mesh drawing, or empty
+  std::string mesh_roi;   // x,y,w,h
+  OutputOptions writing;  // --compression, --quality, --half, --tile-size, --no-stream
+};
+
+struct UpscaleCommandLine {
+  enum class Action {
+    run,          // one job: `args`
+    batch,        // many files: `batch`, `batch_inputs`, `forwarded`
+    help,         // print `text` on stdout, exit 0
+    list_costs,   // print the cost names, exit 0
+    usage_error,  // print "ddtscale: " + `text` on stderr, exit 2
+  };
+  Action action = Action::run;
+  UpscaleArguments args;
+  std::string text;
+  BatchOptions batch;
+  std::vector<std::string> batch_inputs;  // every positional, in order
+  std::vector<std::string> forwarded;     // the options each file's run gets
+};
+
+// argv[0] is the program; argc >= 1. Never throws for any argv (a CLI11
+// error is a usage_error with CLI11's message and the --help hint).
+UpscaleCommandLine parse_upscale_command_line(int argc, const char* const* argv);
+
+// Throws ddt::Error with the one-line message of the first check that fails.
+void validate_arguments(const UpscaleArguments& args);
+
+// Output size from --scale / --width / --height / --max-pixels for an input
+// of in_w x in_h (>= 1); throws ddt::Error (pipeline/output_size.hpp).
+void output_size(const UpscaleArguments& args, int in_w, int in_h, int& out_w, int& out_h);
+
+// The memory the job holds at least, whatever the tiling, in bytes: the
+// decoded input and the output as floats (a few bands of it when streamed
+// under the point model; with --compare also the classic
+// half and the joined image), and the band being triangulated (about 200
+// bytes an input pixel, bounded by the tiling to half the physical memory).
+double image_job_bytes(const UpscaleArguments& args, const ddt::ImageHeader& header, int out_w, int out_h);
