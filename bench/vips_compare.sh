@@ -26,6 +26,7 @@ one() {
   /usr/bin/time -f "%e %M" -o "$work/t.txt" "$@" >/dev/null 2>&1 || { echo "FAILED: $*"; return 1; }
   echo "$name $(cat "$work/t.txt")" >>"$work/runs.txt"
 }
+cp "$work/runs.txt" "$work/runs_prev.txt" 2>/dev/null || true
 : >"$work/runs.txt"
 echo "load at start: $(cat /proc/loadavg)"
 for r in $(seq "$runs"); do
@@ -36,11 +37,13 @@ for r in $(seq "$runs"); do
   one ddt_exr "$ddt" "$in" "$work/ddt.exr" --scale 4 --quiet
   one ddt_exr_point "$ddt" "$in" "$work/ddt_point.exr" --scale 4 --quiet --model point
 done
-summary() {  # NAME FILE: median seconds, median MB, file MB
-  awk -v n="$1" '$1 == n { print $2, $3 }' "$work/runs.txt" | sort -n | awk -v n="$1" -v f="$2" '
-    { t[NR] = $1; m[NR] = $2 } END {
-      cmd = "stat -c %s " f; cmd | getline size; close(cmd)
-      asort(m); printf "| %s | %.2f s | %.0f MB | %.1f MB |\n", n, (NR % 2 ? t[(NR + 1) / 2] : (t[NR / 2] + t[NR / 2 + 1]) / 2), m[int((NR + 1) / 2)] / 1024, size / 1048576 }'
+median() { sort -n | awk '{ v[NR] = $1 } END { print (NR % 2 ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2) }'; }
+summary() {  # NAME FILE: median seconds, median peak RSS, file size
+  local t m
+  t=$(awk -v n="$1" '$1 == n { print $2 }' "$work/runs.txt" | median)
+  m=$(awk -v n="$1" '$1 == n { print $3 }' "$work/runs.txt" | median)
+  awk -v n="$1" -v t="$t" -v m="$m" -v s="$(stat -c %s "$2")" \
+    'BEGIN { printf "| %s | %.2f s | %.0f MB | %.1f MB |\n", n, t, m / 1024, s / 1048576 }'
 }
 echo "| case | median wall | median peak RSS | file |"
 echo "|---|---|---|---|"

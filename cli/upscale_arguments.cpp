@@ -184,7 +184,7 @@ double image_job_bytes(const UpscaleArguments& args, const ddt::ImageHeader& hea
   const double in_pixels = double(header.width) * header.height;
   // Streamed under the point model, a few bands of the output are held.
   const bool bands = !args.writing.no_stream && args.compare.empty() && args.model == "point";
-  const double out_pixels = bands ? std::min(double(out_w) * out_h, 4.0 * 8192 * out_w) : double(out_w) * out_h;
+  const double out_pixels = bands ? std::min(double(out_w) * out_h, 2048.0 * out_w) : double(out_w) * out_h;
   const double images = 4.0 * header.channels * (in_pixels + out_pixels * (args.compare.empty() ? 1 : 4));
   const bool tiled = args.optimizer == "lawson" && args.tile_rows >= 0;
   const double band = 200.0 * in_pixels;

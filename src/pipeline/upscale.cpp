@@ -288,8 +288,11 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
     const double budget = options.max_memory > 0 ? double(options.max_memory) : 0.5 * double(physical_memory());
     const double whole = fixed + per_pixel * W * H;
     if (whole > budget) {
-      const double rows = (budget - fixed) / (per_pixel * W);
-      tile_rows = std::max(256, static_cast<int>(rows * 0.8) - 512);
+      // Tiles run the point model: their rows are sized without the
+      // consistent reconstruction's memory, in two tiles at least.
+      const double tiled_fixed = 4.0 * C * (static_cast<double>(W) * H + held_output);
+      const double rows = (budget - tiled_fixed) / (per_pixel * W);
+      tile_rows = std::min((H + 1) / 2, std::max(256, static_cast<int>(rows * 0.8) - 512));
     }
   }
   // Bands reproduce the whole image's result only under the region
