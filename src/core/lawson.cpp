@@ -1,6 +1,7 @@
 #include "core/lawson.hpp"
 
 #include "core/predicates.hpp"
+#include "core/schedule.hpp"
 #include "util/error.hpp"
 
 #include <tbb/parallel_for.h>
@@ -86,7 +87,7 @@ class Optimizer {
   template <class OnIteration>
   void run_region(RegionRun& run, const std::vector<std::uint32_t>* initial, const ReadScope* scope,
                   OnIteration on_iteration) {
-    std::vector<index_t> active, candidate;
+    std::vector<index_t> candidate;
     auto touch = [&](index_t item) {
       if (scope && !scope->reads(item / P)) {
         run.deferred.push_back(item);
@@ -102,26 +103,18 @@ class Optimizer {
       ++run.tests;
       run.gains += improve(item, scope, run, flips_now, touch);
     };
-    bool scan = initial != nullptr;
-    active = std::move(run.items);  // their pending flags are set
-    while ((scan || !active.empty()) && run.iterations < options_.max_iterations) {
-      ++run.iterations;
-      FlipCounts flips_now;
-      flips_now.dimension = D;
-      if (scan) {
-        for (index_t c : run.cells)
-          for (std::uint32_t m = (*initial)[c]; m; m &= m - 1) test(P * c + std::countr_zero(m), flips_now);
-        scan = false;
-      } else {
-        for (index_t item : active) test(item, flips_now);
-      }
-      run.flips += flips_now;
-      active.swap(candidate);
-      candidate.clear();
-      on_iteration(run.iterations, flips_now);
-      if (flips_now.total() == 0) break;
-    }
-    for (index_t item : active) pending_[item] = 0;  // left over at max_iterations: dropped
+    auto scan_initial = [&](FlipCounts& now) {
+      for (index_t c : run.cells)
+        for (std::uint32_t m = (*initial)[c]; m; m &= m - 1) test(P * c + std::countr_zero(m), now);
+    };
+    lawson_iterations(
+        initial != nullptr, std::move(run.items), candidate, options_.max_iterations, run.iterations, run.flips,
+        [] {
+          FlipCounts f;
+          f.dimension = D;
+          return f;
+        },
+        scan_initial, test, [&](index_t item) { pending_[item] = 0; }, on_iteration);
   }
 
   double total() const { return total_cost<D>(mesh_, z_, K_, cost_); }
@@ -254,12 +247,8 @@ void run_phases(Optimizer<D>& opt, SimplexMesh<D>& mesh, long long size, const L
   const long long V = static_cast<long long>(mesh.points.size());
   double cost_now = stats.cost_before;
   std::vector<index_t> list;  // items handed to the next phase, in a fixed order
-  long long flips_last = -1, flips_before_last = -1;
-  const int max_phases = 64;
   auto no_report = [](int, const FlipCounts&) {};
-  for (int phase = 0; phase == 0 || !list.empty(); ++phase) {
-    if (phase >= options.max_iterations) break;
-    const bool single = phase >= 2 && ((flips_last == 0 && flips_before_last == 0) || phase >= max_phases);
+  auto run_phase = [&](int phase, bool single) {
     FlipCounts flips_now;
     flips_now.dimension = D;
     if (single) {
@@ -335,9 +324,9 @@ void run_phases(Optimizer<D>& opt, SimplexMesh<D>& mesh, long long size, const L
     stats.flips += flips_now;
     stats.iterations = phase + 1;
     if (options.on_iteration) options.on_iteration(phase + 1, flips_now, cost_now);
-    flips_before_last = flips_last;
-    flips_last = flips_now.total();
-  }
+    return flips_now.total();
+  };
+  run_region_phases(options.max_iterations, run_phase, [&] { return !list.empty(); });
 }
 
 }  // namespace

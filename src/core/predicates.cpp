@@ -36,18 +36,7 @@ std::array<typename KernelD<D>::Point_d, D + 1> points_d(const std::array<Vec<D>
 
 template <int D>
 bool lattice_exact(const std::vector<Vec<D>>& points) {
-  double largest = 0;
-  int s = 0;
-  for (const Vec<D>& p : points)
-    for (double c : p) {
-      if (!std::isfinite(c)) return false;
-      largest = std::max(largest, std::abs(c));
-      while (std::ldexp(c, s) != std::floor(std::ldexp(c, s)))
-        if (++s > 30) return false;
-    }
-  double bound = std::pow(std::ldexp(2 * largest, s), D);
-  for (int k = 2; k <= D; ++k) bound *= k;
-  return bound <= 9007199254740992.0;  // 2^53
+  return lattice_exact<D>(points, [](const Vec<D>& p, int k) { return p[k]; });
 }
 
 template <int D>
@@ -80,28 +69,13 @@ int in_sphere(const std::array<Vec<D>, D + 1>& s, const Vec<D>& q) {
   }
 }
 
-// orient is linear in the last point q = pD: det = sum_k c_k (q_k - p0_k), with
-// c_k the cofactor of the last row. Moving q by (e, e^2, ..., e^D) adds
-// sum_k c_k e^k, so on a tie the first nonzero c_k decides. c_k is, up to
-// the sign (-1)^(D+k) (k from 1), the (D-1)-dimensional orientation of
-// p0 .. p(D-1) with coordinate k dropped: exact through orient<D-1>.
 template <int D>
 int perturbed_orient(const std::array<Vec<D>, D + 1>& p) {
   const int exact = orient<D>(p);
   if (exact != 0) return exact;
-  if constexpr (D == 1) {
-    return 1;  // q + e lies to the right of p0
-  } else {
-    for (int k = 0; k < D; ++k) {
-      std::array<Vec<D - 1>, D> projected;
-      for (int i = 0; i < D; ++i)
-        for (int j = 0, n = 0; j < D; ++j)
-          if (j != k) projected[i][n++] = p[i][j];
-      const int minor = orient<D - 1>(projected);
-      if (minor != 0) return ((D + k + 1) % 2 == 0) ? minor : -minor;
-    }
-    return 0;  // p0 .. p(D-1) are affinely dependent
-  }
+  std::array<Vec<D>, D> facet;
+  std::copy(p.begin(), p.begin() + D, facet.begin());
+  return perturbed_tie<D>(facet);
 }
 
 template <int D>

@@ -19,8 +19,11 @@
 //     tie-break (Edelsbrunner & Muecke's simulation of simplicity restricted
 //     to the query point). Nonzero whenever p0 .. p(D-1) are affinely
 //     independent, and antisymmetric in them, so of two cells sharing a
-//     facet exactly one owns a point that lies on it. For D = 2 it is
-//     rasterizer.cpp's tie_side.
+//     facet exactly one owns a point that lies on it. The 2D rasterizer's
+//     pixel ownership and rasterizer3's voxel ownership use it.
+//   perturbed_tie<D>(p0, ..., p(D-1)) = what perturbed_orient returns when
+//     orient is 0: the sign of the perturbation term, which depends on the
+//     facet only (so a rasterizer computes it once per edge or face).
 //   radon_partition<D>(s0, ..., s(D+1)): the signs of the affine dependence
 //     sum l_i s_i = 0, sum l_i = 0, of D + 2 points, l_i = (-1)^i
 //     orient<D>(S \ s_i) (Cramer's rule). A = {i : l_i > 0} and B = {i :
@@ -31,7 +34,9 @@
 
 #include "core/simplex_mesh.hpp"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <vector>
 
 namespace ddt::core {
@@ -44,6 +49,33 @@ int in_sphere(const std::array<Vec<D>, D + 1>& simplex, const Vec<D>& q);
 
 template <int D>
 int perturbed_orient(const std::array<Vec<D>, D + 1>& p);
+
+// orient is linear in the last point q = pD: det = sum_k c_k (q_k - p0_k),
+// with c_k the cofactor of the last row. Moving q by (e, e^2, ..., e^D)
+// adds sum_k c_k e^k, so on a tie the first nonzero c_k decides. c_k is, up
+// to the sign (-1)^(D+k) (k from 1), the (D-1)-dimensional orientation of
+// p0 .. p(D-1) with coordinate k dropped: exact through orient<D-1> (a
+// comparison for D = 2, written out so the rasterizer's edges inline it).
+template <int D>
+int perturbed_tie(const std::array<Vec<D>, D>& facet) {
+  if constexpr (D == 1) {
+    return 1;  // q + e lies to the right of p0
+  } else {
+    for (int k = 0; k < D; ++k) {
+      std::array<Vec<D - 1>, D> projected;
+      for (int i = 0; i < D; ++i)
+        for (int j = 0, n = 0; j < D; ++j)
+          if (j != k) projected[i][n++] = facet[i][j];
+      int minor;
+      if constexpr (D == 2)
+        minor = (projected[1][0] > projected[0][0]) - (projected[1][0] < projected[0][0]);
+      else
+        minor = orient<D - 1>(projected);
+      if (minor != 0) return ((D + k + 1) % 2 == 0) ? minor : -minor;
+    }
+    return 0;  // p0 .. p(D-1) are affinely dependent
+  }
+}
 
 template <int D>
 std::array<int, D + 2> radon_partition(const std::array<Vec<D>, D + 2>& s);
@@ -58,6 +90,33 @@ std::array<int, D + 2> radon_partition(const std::array<Vec<D>, D + 2>& s);
 // O(V D).
 template <int D>
 bool lattice_exact(const std::vector<Vec<D>>& points);
+
+// lattice_exact for any container of points; coordinate(p, k) reads
+// coordinate k of point p (the 2D mesh's Point2 has x and y).
+template <int D, class Points, class Coordinate>
+bool lattice_exact(const Points& points, Coordinate coordinate) {
+  double largest = 0;
+  int s = 0;
+  for (const auto& p : points)
+    for (int k = 0; k < D; ++k) {
+      const double c = coordinate(p, k);
+      if (!std::isfinite(c)) return false;
+      largest = std::max(largest, std::abs(c));
+      while (std::ldexp(c, s) != std::floor(std::ldexp(c, s)))
+        if (++s > 30) return false;
+    }
+  double bound = std::pow(std::ldexp(2 * largest, s), D);
+  for (int k = 2; k <= D; ++k) bound *= k;
+  return bound <= 9007199254740992.0;  // 2^53
+}
+
+// The rasterizer's lattice (image/raster): c is an integer multiple of
+// 2^-fraction_bits below bound in magnitude, checked by one exact
+// conversion (bound * 2^fraction_bits <= 2^53).
+inline bool on_lattice(double c, int fraction_bits, double bound) {
+  const double scaled = c * std::ldexp(1.0, fraction_bits);  // exact: a power of two
+  return std::abs(c) < bound && scaled == static_cast<double>(static_cast<long long>(scaled));
+}
 
 // orient<D> by cofactor expansion in plain double (D <= 4): equal to
 // orient<D> when the points satisfy lattice_exact (tested), meaningless

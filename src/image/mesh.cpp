@@ -1,16 +1,13 @@
 #include "image/mesh.hpp"
 
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include "core/check_mesh.hpp"
+#include "core/predicates.hpp"
 
-#include <sstream>
 
 namespace ddt {
 
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-
 int orientation(const Point2& p, const Point2& q, const Point2& r) {
-  return static_cast<int>(CGAL::orientation(Kernel::Point_2(p.x, p.y), Kernel::Point_2(q.x, q.y),
-                                            Kernel::Point_2(r.x, r.y)));
+  return core::orient<2>({core::Vec<2>{p.x, p.y}, {q.x, q.y}, {r.x, r.y}});
 }
 
 bool is_flippable(const Mesh2& mesh, index_t e) {
@@ -47,53 +44,22 @@ void flip_edge(Mesh2& mesh, index_t e) {
   mesh.link(f_db, bc);  // slot prev(f) now holds b->c
 }
 
+core::SimplexMesh<2> as_simplex_mesh(const Mesh2& mesh) {
+  core::SimplexMesh<2> out;
+  out.points.reserve(mesh.points.size());
+  for (const Point2& p : mesh.points) out.points.push_back({p.x, p.y});
+  out.cell = mesh.tri;
+  out.opp.resize(mesh.opp.size());
+  // Half-edge 3t + k lies on the facet opposite corner k + 2; ids out of
+  // range stay out of range, for check_mesh to name.
+  auto slot = [](index_t h) { return h < 0 ? h : 3 * tri_of(h) + (h % 3 + 2) % 3; };
+  for (index_t h = 0; h < mesh.half_edge_count(); ++h) out.opp[slot(h)] = slot(mesh.opp[h]);
+  return out;
+}
+
 std::string check_mesh(const Mesh2& mesh) {
-  std::ostringstream problem;
-  const index_t n_half = mesh.half_edge_count();
   if (mesh.tri.size() % 3 != 0 || mesh.opp.size() != mesh.tri.size()) return "array sizes disagree";
-  std::vector<char> used(mesh.points.size(), 0);
-  index_t hull_edges = 0;
-  for (index_t e = 0; e < n_half; ++e) {
-    const index_t v = mesh.tri[e];
-    if (v < 0 || v >= static_cast<index_t>(mesh.points.size())) {
-      problem << "half-edge " << e << " has vertex " << v << " out of range";
-      return problem.str();
-    }
-    used[v] = 1;
-    const index_t t = mesh.opp[e];
-    if (t == no_edge) {
-      ++hull_edges;
-      continue;
-    }
-    if (t < 0 || t >= n_half || mesh.opp[t] != e) {
-      problem << "twin of half-edge " << e << " is not symmetric";
-      return problem.str();
-    }
-    if (mesh.tri[t] != mesh.tri[next_edge(e)] || mesh.tri[next_edge(t)] != mesh.tri[e]) {
-      problem << "half-edge " << e << " and its twin " << t << " join different vertices";
-      return problem.str();
-    }
-  }
-  for (index_t t = 0; t < mesh.triangle_count(); ++t) {
-    const Point2& p = mesh.points[mesh.tri[3 * t]];
-    const Point2& q = mesh.points[mesh.tri[3 * t + 1]];
-    const Point2& r = mesh.points[mesh.tri[3 * t + 2]];
-    if (orientation(p, q, r) <= 0) {
-      problem << "triangle " << t << " is not strictly counter-clockwise";
-      return problem.str();
-    }
-  }
-  // On a triangulation of all points, hull vertices == hull edges.
-  index_t unused = 0;
-  for (char u : used) unused += u ? 0 : 1;
-  if (mesh.triangle_count() > 0 && unused == 0) {
-    const index_t expected = 2 * static_cast<index_t>(mesh.points.size()) - hull_edges - 2;
-    if (mesh.triangle_count() != expected) {
-      problem << "triangle count " << mesh.triangle_count() << " differs from 2V - h - 2 = " << expected;
-      return problem.str();
-    }
-  }
-  return {};
+  return core::check_mesh<2>(as_simplex_mesh(mesh));
 }
 
 std::vector<index_t> hull_half_edges(const Mesh2& mesh, bool* whole_disk) {

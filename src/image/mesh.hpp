@@ -26,13 +26,14 @@
 //           t1 = (c, d, b) with slots (f, next f, prev f) = (c->d, d->b, b->c)
 //   The outer edges keep their twins (ca, ad, db, bc) but move slots.
 
+#include "core/simplex_mesh.hpp"
+
 #include <cstdint>
 #include <string>
 #include <vector>
 
 namespace ddt {
 
-using index_t = std::int32_t;
 inline constexpr index_t no_edge = -1;
 
 constexpr index_t tri_of(index_t e) { return e / 3; }
@@ -76,10 +77,15 @@ bool is_flippable(const Mesh2& mesh, index_t e);
 // is_flippable(mesh, e).
 void flip_edge(Mesh2& mesh, index_t e);
 
-// Checks combinatorics and geometry: opp symmetric and pointing at the same
-// edge reversed, every triangle strictly counter-clockwise, every vertex used,
-// #T == 2V - h - 2 (h hull vertices) when all points are used. Returns an
-// empty string when valid, else a description of the first problem.
+// The same mesh as a core::SimplexMesh<2>: cell t = tri[3t..3t+2], and
+// half-edge 3t + k is facet slot 3t + (k + 2) % 3 (the facet opposite
+// corner k + 2), so opp maps slot for slot. O(#T + #V).
+core::SimplexMesh<2> as_simplex_mesh(const Mesh2& mesh);
+
+// core::check_mesh<2> of as_simplex_mesh(mesh) (twins, strictly
+// counter-clockwise triangles, the hull closing up, Euler characteristic
+// 1), after the array sizes. Returns an empty string when valid, else a
+// description of the first problem.
 std::string check_mesh(const Mesh2& mesh);
 
 // The hull's half-edges (those without a twin). When the mesh is a

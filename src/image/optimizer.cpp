@@ -2,6 +2,8 @@
 
 #include "util/chunked_sum.hpp"
 #include "core/local_cost.hpp"
+#include "core/predicates.hpp"
+#include "core/schedule.hpp"
 #include "util/error.hpp"
 #include "util/huge_pages.hpp"
 
@@ -136,17 +138,10 @@ double triangle_cost(const Mesh2& mesh, const std::vector<float>& values, int K,
 // same predicates (exact) and, for the built-in costs, the same floating-
 // point operations in the same order, only without the indirections.
 
-// Orientation of three mesh vertices, exact. When every coordinate is a
-// multiple of 2^-8 below 2^17 in magnitude (pixel centres are, up to
-// 131072 pixels), the plain double determinant is exact: differences are
-// multiples of 2^-8 below 2^18 (26 bits), products multiples of 2^-16 below
-// 2^36 (52 bits), their difference a multiple of 2^-16 below 2^37 (53 bits).
-// Otherwise CGAL's filtered exact predicate.
+// Orientation of three mesh vertices, exact: a plain determinant when the
+// points satisfy core::lattice_exact (pixel centres do), else CGAL's.
 bool plain_arithmetic_is_exact(const std::vector<Point2>& points) {
-  for (const Point2& p : points)
-    for (double c : {p.x, p.y})
-      if (!(std::abs(c) < 131072.0) || c * 256.0 != std::floor(c * 256.0)) return false;
-  return true;
+  return core::lattice_exact<2>(points, [](const Point2& p, int k) { return k == 0 ? p.x : p.y; });
 }
 
 struct Geometry {
@@ -155,9 +150,7 @@ struct Geometry {
 
   int orient(index_t i, index_t j, index_t k) const {
     const Point2 &p = mesh.points[i], &q = mesh.points[j], &r = mesh.points[k];
-    if (!plain_is_exact) return orientation(p, q, r);
-    const double d = (q.x - p.x) * (r.y - p.y) - (q.y - p.y) * (r.x - p.x);
-    return (d > 0) - (d < 0);
+    return core::orient<2>({core::Vec<2>{p.x, p.y}, {q.x, q.y}, {r.x, r.y}}, plain_is_exact);
   }
   // is_flippable (mesh.cpp) with the predicate above.
   bool flippable(index_t e) const {
@@ -194,15 +187,25 @@ struct ReferenceEvaluator {
   void commit(index_t, index_t, const Scratch&) const {}
 };
 
-// True when the four vertices hold the same value in every channel.
+// The quadrilateral a, b, c, d of the flip diagram (mesh.hpp) around edge
+// e, when e can flip and its four vertices do not hold the same value in
+// every channel (a flat quadrilateral, counted in `flat`, never flips for
+// the fast evaluators' costs).
 template <int KT>
-bool flat_quad(const float* z, int K, index_t a, index_t b, index_t c, index_t d) {
+bool open_quad(const Geometry& geometry, const float* z, int K, index_t e, index_t q[4], long long& flat) {
+  if (!geometry.flippable(e)) return false;
+  const Mesh2& mesh = geometry.mesh;
+  const index_t f = mesh.opp[e];
+  q[0] = mesh.tri[e], q[1] = mesh.tri[f], q[2] = mesh.tri[prev_edge(e)], q[3] = mesh.tri[prev_edge(f)];
   const int n = KT > 0 ? KT : K;
-  const float *za = z + static_cast<std::size_t>(a) * n, *zb = z + static_cast<std::size_t>(b) * n;
-  const float *zc = z + static_cast<std::size_t>(c) * n, *zd = z + static_cast<std::size_t>(d) * n;
-  for (int k = 0; k < n; ++k)
-    if (za[k] != zb[k] || za[k] != zc[k] || za[k] != zd[k]) return false;
-  return true;
+  const float* za = z + static_cast<std::size_t>(q[0]) * n;
+  for (int i = 1; i < 4; ++i) {
+    const float* zi = z + static_cast<std::size_t>(q[i]) * n;
+    for (int k = 0; k < n; ++k)
+      if (za[k] != zi[k]) return true;
+  }
+  ++flat;
+  return false;
 }
 
 // sederberg and sederberg-edge: triangle_field, edge_cost and
@@ -289,13 +292,9 @@ struct SederbergEvaluator {
     return edge(fs, ft);
   }
   bool decide(index_t e, double& gain, long long& flat, Scratch& scratch) const {
-    if (!geometry.flippable(e)) return false;
-    const index_t f = mesh.opp[e];
-    const index_t a = mesh.tri[e], b = mesh.tri[f], c = mesh.tri[prev_edge(e)], d = mesh.tri[prev_edge(f)];
-    if (flat_quad<KT>(z, K, a, b, c, d)) {
-      ++flat;
-      return false;
-    }
+    index_t q[4];
+    if (!open_quad<KT>(geometry, z, K, e, q, flat)) return false;
+    const index_t f = mesh.opp[e], a = q[0], b = q[1], c = q[2], d = q[3];
     const std::vector<double>& C = *cost;
     // edge(t0, t1) + edge(t0, n_bc) + edge(t0, n_ca) + edge(t1, n_ad) + edge(t1, n_db)
     const double before = C[e] + C[next_edge(e)] + C[prev_edge(e)] + C[next_edge(f)] + C[prev_edge(f)];
@@ -306,18 +305,14 @@ struct SederbergEvaluator {
     // edge(t0n, t1n) + edge(t1n, n_bc) + edge(t0n, n_ca) + edge(t0n, n_ad) + edge(t1n, n_db)
     double after = term[0] = edge(t0n, t1n);
     if (!accept(before, after, tolerance, gain)) return false;
-    across(next_edge(e), n);
-    after += term[1] = edge(t1n, n);
-    if (!accept(before, after, tolerance, gain)) return false;
-    across(prev_edge(e), n);
-    after += term[2] = edge(t0n, n);
-    if (!accept(before, after, tolerance, gain)) return false;
-    across(next_edge(f), n);
-    after += term[3] = edge(t0n, n);
-    if (!accept(before, after, tolerance, gain)) return false;
-    across(prev_edge(f), n);
-    after += term[4] = edge(t1n, n);
-    return accept(before, after, tolerance, gain);
+    const index_t outer[4] = {next_edge(e), prev_edge(e), next_edge(f), prev_edge(f)};  // bc, ca, ad, db
+    const Field* inner[4] = {&t1n, &t0n, &t0n, &t1n};
+    for (int i = 0; i < 4; ++i) {
+      across(outer[i], n);
+      after += term[i + 1] = edge(*inner[i], n);
+      if (!accept(before, after, tolerance, gain)) return false;
+    }
+    return true;
   }
   // After flip_edge(mesh, e): stores the new terms. The slots of the flip
   // diagram now hold e = d->c, next(e) = c->a, prev(e) = a->d,
@@ -364,13 +359,9 @@ struct VarianceEvaluator {
   struct Scratch {};
   void commit(index_t, index_t, const Scratch&) const {}
   bool decide(index_t e, double& gain, long long& flat, Scratch&) const {
-    if (!geometry.flippable(e)) return false;
-    const index_t f = mesh.opp[e];
-    const index_t a = mesh.tri[e], b = mesh.tri[f], c = mesh.tri[prev_edge(e)], d = mesh.tri[prev_edge(f)];
-    if (flat_quad<KT>(z, K, a, b, c, d)) {
-      ++flat;
-      return false;
-    }
+    index_t q[4];
+    if (!open_quad<KT>(geometry, z, K, e, q, flat)) return false;
+    const index_t a = q[0], b = q[1], c = q[2], d = q[3];
     const double before = triangle(a, b, c) + triangle(b, a, d);
     const double after = triangle(d, c, a) + triangle(c, d, b);
     return accept(before, after, tolerance, gain);
@@ -486,30 +477,23 @@ void run_region(Run& run, const Evaluator& evaluator, const Region& region, bool
     for (index_t e = 3 * region.first; e < 3 * region.last && !any; ++e) any = flags[e] & queued_initially;
     if (!any) scan = false;
   }
-  while ((scan || !active.empty()) && result.iterations < run.options.max_iterations) {
-    ++result.iterations;
-    long long flips_now = 0;
-    if (scan) {
-      for (index_t e = 3 * region.first; e < 3 * region.last; ++e) {
-        if (!(flags[e] & queued_initially)) continue;
-        flags[e] = 0;
-        flips_now += test(e);
-      }
-      scan = false;
-    } else {
-      for (index_t e : active) {
-        flags[e] = 0;
-        flips_now += test(e);
-      }
+  auto scan_initial = [&](long long& flips) {
+    for (index_t e = 3 * region.first; e < 3 * region.last; ++e) {
+      if (!(flags[e] & queued_initially)) continue;
+      flags[e] = 0;
+      flips += test(e);
     }
-    result.flips += flips_now;
-    active.swap(candidate);
-    candidate.clear();
-    on_iteration(result.iterations, flips_now, result.gains);
-    if (flips_now == 0) break;
-  }
-  for (index_t e : active) flags[e] = 0;  // left over at max_iterations: dropped, as in one region
-  if (scan)
+  };
+  core::lawson_iterations(
+      scan, std::move(active), candidate, run.options.max_iterations, result.iterations, result.flips,
+      [] { return 0LL; }, scan_initial,
+      [&](index_t e, long long& flips) {
+        flags[e] = 0;
+        flips += test(e);
+      },
+      [&](index_t e) { flags[e] = 0; },
+      [&](int iteration, long long flips) { on_iteration(iteration, flips, result.gains); });
+  if (scan && result.iterations == 0)  // the scan never ran (max_iterations <= 0)
     for (index_t e = 3 * region.first; e < 3 * region.last; ++e) flags[e] &= static_cast<std::uint8_t>(~queued_initially);
   run.report_tests(unreported);
 }
@@ -553,15 +537,9 @@ void optimize_with(Run& run, const Evaluator& evaluator, LawsonStats& stats) {
 
   auto no_report = [](int, long long, double) {};
   std::vector<index_t> list;  // edges queued for the next phase, in a fixed order
-  long long flips_last = -1, flips_before_last = -1;
-  const int max_phases = 64;
-  for (int phase = 0; phase == 0 || !list.empty(); ++phase) {
-    if (phase >= options.max_iterations) break;
-    // Even phases: regions [k size, (k+1) size); odd phases: shifted by
-    // half a region. One region for what is left once both partitions made
-    // no flip in a row (those edges are deferred by both), or after
-    // max_phases.
-    const bool single = phase >= 2 && ((flips_last == 0 && flips_before_last == 0) || phase >= max_phases);
+  // Even phases: regions [k size, (k+1) size); odd phases: shifted by half
+  // a region; `single`: one region for what is left (core/schedule.hpp).
+  auto run_phase = [&](int phase, bool single) {
     const long long shift = phase % 2 == 1 ? size / 2 : 0;
     const long long boundary = ((options.region_origin + shift) % size + size) % size;  // first boundary >= 0
     const long long start = boundary == 0 ? 0 : boundary - size;
@@ -590,9 +568,9 @@ void optimize_with(Run& run, const Evaluator& evaluator, LawsonStats& stats) {
     stats.flips += flips_now;
     stats.iterations = phase + 1;
     if (options.on_iteration) options.on_iteration(phase + 1, flips_now, cost_now);
-    flips_before_last = flips_last;
-    flips_last = flips_now;
-  }
+    return flips_now;
+  };
+  core::run_region_phases(options.max_iterations, run_phase, [&] { return !list.empty(); });
 }
 
 }  // namespace

@@ -64,8 +64,10 @@ struct RenderGrid {
 struct RenderStats {
   long long triangles = 0;       // mesh triangles drawn
   long long rim_triangles = 0;   // slab and fan triangles outside the hull
-  long long uncovered = 0;       // pixels no triangle drew: outside the hull without the rim, else 0
-  long long overcovered = 0;     // pixels drawn more than once (0: each row's pieces are disjoint by construction)
+  // Pixels no triangle drew: outside the hull without the rim, else 0. Each
+  // row's pieces are disjoint by construction (tests check every pixel is
+  // drawn once), so this is the image's pixels minus those drawn.
+  long long uncovered = 0;
   // Cubic mode: pieces (a triangle's part of a group of rows) drawn from the
   // patch's power form and from its Bernstein form.
   long long power_pieces = 0;

@@ -1,5 +1,6 @@
 #include "image/triangulation.hpp"
 
+#include "core/check_mesh.hpp"
 #include "util/huge_pages.hpp"
 
 #include <CGAL/Delaunay_triangulation_2.h>
@@ -209,19 +210,14 @@ std::vector<index_t> hilbert_order(int w, int h) {
   return order;
 }
 
-// Exact predicates on block-local integer coordinates (|c| < 2^12).
-struct IntPoint {
-  std::int64_t x, y;
-};
-int sign(std::int64_t v) { return (v > 0) - (v < 0); }
-int orient_int(const IntPoint& p, const IntPoint& q, const IntPoint& r) {
-  return sign((q.x - p.x) * (r.y - p.y) - (q.y - p.y) * (r.x - p.x));
+// Orientation and in-circle on block-local integer coordinates, in
+// GridKernel's plain double arithmetic: exact there (see above).
+using GridPoint = GridKernel::Point_2;
+int orient_int(const GridPoint& p, const GridPoint& q, const GridPoint& r) {
+  return static_cast<int>(CGAL::orientation(p, q, r));
 }
-int in_circle_int(const IntPoint& a, const IntPoint& b, const IntPoint& c, const IntPoint& d) {
-  const std::int64_t adx = a.x - d.x, ady = a.y - d.y, bdx = b.x - d.x, bdy = b.y - d.y;
-  const std::int64_t cdx = c.x - d.x, cdy = c.y - d.y;
-  const std::int64_t al = adx * adx + ady * ady, bl = bdx * bdx + bdy * bdy, cl = cdx * cdx + cdy * cdy;
-  return sign(adx * (bdy * cl - bl * cdy) - ady * (bdx * cl - bl * cdx) + al * (bdx * cdy - bdy * cdx));
+int in_circle_int(const GridPoint& a, const GridPoint& b, const GridPoint& c, const GridPoint& d) {
+  return static_cast<int>(CGAL::side_of_oriented_circle(a, b, c, d));
 }
 
 // The perturbed Delaunay triangulation of the block of lattice points
@@ -240,18 +236,18 @@ void triangulate_block(int w, const std::vector<index_t>& order, std::vector<ind
   Mesh2 local;
   local.tri.swap(tri);
   local.opp.swap(opp);
-  auto at = [w](index_t id) { return IntPoint{id % w, id / w}; };
+  auto at = [w](index_t id) { return GridPoint(id % w, id / w); };
   auto violates = [&](const Mesh2& m, index_t e) {
     const index_t f = m.opp[e];
     if (f == no_edge) return false;
     const std::array<index_t, 4> ids = {m.tri[e], m.tri[f], m.tri[prev_edge(e)], m.tri[prev_edge(f)]};
-    const std::array<IntPoint, 4> p = {at(ids[0]), at(ids[1]), at(ids[2]), at(ids[3])};
+    const std::array<GridPoint, 4> p = {at(ids[0]), at(ids[1]), at(ids[2]), at(ids[3])};
     return perturbed_violation(in_circle_int(p[0], p[1], p[2], p[3]), ids,
                                [&](int i, int j, int k) { return orient_int(p[i], p[j], p[k]); });
   };
   auto flippable = [&](const Mesh2& m, index_t e) {
     const index_t f = m.opp[e];
-    const IntPoint a = at(m.tri[e]), b = at(m.tri[f]), c = at(m.tri[prev_edge(e)]), d = at(m.tri[prev_edge(f)]);
+    const GridPoint a = at(m.tri[e]), b = at(m.tri[f]), c = at(m.tri[prev_edge(e)]), d = at(m.tri[prev_edge(f)]);
     return orient_int(d, c, a) > 0 && orient_int(c, d, b) > 0;
   };
   resolve_ties(local, violates, flippable);
@@ -436,17 +432,6 @@ Mesh2 delaunay_triangulation(const std::vector<Point2>& points) {
   return general_delaunay(points);
 }
 
-bool is_delaunay(const Mesh2& mesh) {
-  for (index_t e = 0; e < mesh.half_edge_count(); ++e) {
-    const index_t f = mesh.opp[e];
-    if (f == no_edge) continue;
-    const Point2& a = mesh.points[mesh.tri[e]];
-    const Point2& b = mesh.points[mesh.tri[f]];
-    const Point2& c = mesh.points[mesh.tri[prev_edge(e)]];
-    const Point2& d = mesh.points[mesh.tri[prev_edge(f)]];
-    if (in_circle(a, b, c, d) > 0) return false;
-  }
-  return true;
-}
+bool is_delaunay(const Mesh2& mesh) { return core::is_delaunay<2>(as_simplex_mesh(mesh)); }
 
 }  // namespace ddt

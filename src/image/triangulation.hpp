@@ -33,9 +33,9 @@ Mesh2 delaunay_triangulation(const std::vector<Point2>& points);
 // must be flipped to make the mesh the perturbed Delaunay triangulation.
 bool violates_perturbed_delaunay(const Mesh2& mesh, index_t e);
 
-// True when no point of an adjacent triangle lies strictly inside any
-// triangle's circumcircle (exact predicate), checked on every interior edge
-// (local Delaunay everywhere implies global Delaunay).
+// core::is_delaunay<2> of as_simplex_mesh(mesh): no point of an adjacent
+// triangle strictly inside a triangle's circumcircle (exact), on every
+// interior edge (local Delaunay everywhere implies global Delaunay).
 bool is_delaunay(const Mesh2& mesh);
 
 }  // namespace ddt

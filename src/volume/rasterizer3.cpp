@@ -23,24 +23,6 @@ using Point3 = core::Vec<3>;
 // positive side (the normals below point inwards).
 constexpr int face_vertex[4][3] = {{1, 3, 2}, {0, 2, 3}, {0, 3, 1}, {0, 1, 2}};
 
-int orient2(double ax, double ay, double bx, double by, double cx, double cy) {
-  return core::orient<2>({core::Vec<2>{ax, ay}, {bx, by}, {cx, cy}});
-}
-
-// Side of p relative to the oriented plane a b c with the exact predicate
-// and the (eps, eps^2, eps^3) perturbation of p on ties: +1 positive, -1
-// negative, never 0. The derivative of det[b - a, c - a, p - a] in p is
-// n = (b - a) x (c - a); its components' signs are 2D orientations of the
-// projections, so the tie-break is exact too. Antisymmetric in the face's
-// orientation, so two tetrahedra sharing a face never both own a point.
-int side(const Point3& a, const Point3& b, const Point3& c, const Point3& p) {
-  const int s = core::orient<3>({a, b, c, p});
-  if (s != 0) return s;
-  if (const int nx = orient2(a[1], a[2], b[1], b[2], c[1], c[2])) return nx;
-  if (const int ny = orient2(a[2], a[0], b[2], b[0], c[2], c[0])) return ny;
-  return orient2(a[0], a[1], b[0], b[1], c[0], c[1]);
-}
-
 // Error-free transformations (Knuth's TwoSum, FMA TwoProduct): true when
 // x op y was computed without rounding.
 bool exact_sum(double x, double y, double sum) {
@@ -245,8 +227,8 @@ Volume render_tetrahedra(const core::SimplexMesh<3>& mesh, const std::vector<flo
       // Ownership of a sample, face by face: the floating-point distance
       // when it clears its rounding error by far (tol); else the exact sign
       // of (b - a) x (c - a) . (q - a) when no step of it rounds (voxel
-      // grids at power-of-two scales), with side()'s tie-break read off the
-      // exact normal; else side() with CGAL's exact predicates.
+      // grids at power-of-two scales), with perturbed_orient's tie-break read
+      // off the exact normal; else core::perturbed_orient<3> (exact).
       auto face_side = [&](int i, const Point3& q) {
         const double d = s.n[i][0] * q[0] + s.n[i][1] * q[1] + s.n[i][2] * q[2] + s.off[i];
         if (d > tol) return 1;
@@ -257,7 +239,7 @@ Volume render_tetrahedra(const core::SimplexMesh<3>& mesh, const std::vector<flo
           for (int k = 0; k < 3; ++k)
             if (s.raw[i][k] != 0) return s.raw[i][k] > 0 ? 1 : -1;
         }
-        return side(s.p[face_vertex[i][0]], s.p[face_vertex[i][1]], s.p[face_vertex[i][2]], q);
+        return core::perturbed_orient<3>({s.p[face_vertex[i][0]], s.p[face_vertex[i][1]], s.p[face_vertex[i][2]], q});
       };
       auto inside = [&](const Point3& q) {
         for (int i = 0; i < 4; ++i)

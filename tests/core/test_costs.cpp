@@ -1,4 +1,5 @@
 #include "core/costs.hpp"
+#include "core_test_support.hpp"
 #include "util/error.hpp"
 
 #include <doctest/doctest.h>
@@ -21,27 +22,38 @@ TEST_CASE("variance_weight: population variance") {
   CHECK(variance_weight(flat, 4) == 0.0);
 }
 
-TEST_CASE("simplex_gradient: planes in 2D and 3D are recovered") {
-  using V2 = Eigen::Vector2d;
-  std::array<V2, 3> p = {V2(0.5, 0.5), V2(3, 1), V2(1, 2.5)};
-  auto plane = [](const V2& q) { return 2 * q.x() - 3 * q.y() + 1; };
-  auto g = simplex_gradient<2>(p, {plane(p[0]), plane(p[1]), plane(p[2])});
-  CHECK(g.x() == doctest::Approx(2.0));
-  CHECK(g.y() == doctest::Approx(-3.0));
-  using V3 = Eigen::Vector3d;
-  std::array<V3, 4> q = {V3(0, 0, 0), V3(1, 0, 0), V3(0, 2, 0), V3(0.3, 0.2, 1)};
-  auto f3 = [](const V3& r) { return 0.5 * r.x() + r.y() - 4 * r.z() + 7; };
-  auto g3 = simplex_gradient<3>(q, {f3(q[0]), f3(q[1]), f3(q[2]), f3(q[3])});
-  CHECK(g3.x() == doctest::Approx(0.5));
-  CHECK(g3.y() == doctest::Approx(1.0));
-  CHECK(g3.z() == doctest::Approx(-4.0));
+TEST_CASE_TEMPLATE("simplex_gradient: an affine function's gradient is recovered on a skewed simplex", T,
+                   core::test::Dim<2>, core::test::Dim<3>, core::test::Dim<4>) {
+  constexpr int D = T::value;
+  using V = Eigen::Matrix<double, D, 1>;
+  // f(q) = g . q + 7 with g = (1, -2, 3, ...); a simplex neither axis-aligned nor regular.
+  V g;
+  for (int k = 0; k < D; ++k) g[k] = (k % 2 ? -1.0 : 1.0) * (k + 1);
+  std::array<V, D + 1> p;
+  std::array<double, D + 1> z;
+  for (int i = 0; i <= D; ++i) {
+    p[i] = V::Zero();
+    if (i > 0) p[i][i - 1] = 1.0 + 0.5 * i;
+    for (int k = 0; k < D; ++k) p[i][k] += 0.1 * ((i * 7 + k * 3) % 5);
+    z[i] = g.dot(p[i]) + 7;
+  }
+  const V found = simplex_gradient<D>(p, z);
+  for (int k = 0; k < D; ++k) CHECK(found[k] == doctest::Approx(g[k]));
 }
 
-TEST_CASE("simplex_content: triangle area and tetrahedron volume") {
-  using V2 = Eigen::Vector2d;
-  using V3 = Eigen::Vector3d;
-  CHECK(simplex_content<2>({V2(0, 0), V2(1, 0), V2(0, 1)}) == doctest::Approx(0.5));
-  CHECK(simplex_content<3>({V3(0, 0, 0), V3(1, 0, 0), V3(0, 1, 0), V3(0, 0, 1)}) == doctest::Approx(1.0 / 6.0));
+TEST_CASE_TEMPLATE("simplex_content: the unit simplex has content 1/D!, scaled by the product of the axis scales", T,
+                   core::test::Dim<2>, core::test::Dim<3>, core::test::Dim<4>) {
+  constexpr int D = T::value;
+  using V = Eigen::Matrix<double, D, 1>;
+  std::array<V, D + 1> p;
+  double factorial = 1, scaled = 1;
+  for (int i = 0; i <= D; ++i) p[i] = V::Zero();
+  for (int k = 0; k < D; ++k) p[k + 1][k] = 1, factorial *= k + 1;
+  CHECK(simplex_content<D>(p) == doctest::Approx(1.0 / factorial));
+  for (int k = 0; k < D; ++k) p[k + 1][k] = k + 2, scaled *= k + 2;
+  CHECK(simplex_content<D>(p) == doctest::Approx(scaled / factorial));
+  std::swap(p[0], p[1]);  // the content does not depend on the orientation
+  CHECK(simplex_content<D>(p) == doctest::Approx(scaled / factorial));
 }
 
 TEST_CASE("find_cost: known names and a clear error for unknown ones") {

@@ -280,3 +280,80 @@ TEST_CASE_TEMPLATE("core lattice_exact: refuses coordinates off any lattice, too
   fine[1].fill(0.5 + std::ldexp(1.0, -52));
   CHECK_FALSE(lattice_exact<D>(fine));
 }
+
+TEST_CASE_TEMPLATE("core perturbed_tie: what perturbed_orient says for a point on the facet, antisymmetric", T, Dim<2>,
+                   Dim<3>, Dim<4>) {
+  constexpr int D = T::value;
+  std::mt19937 rng(17 + D);
+  std::uniform_int_distribution<int> coordinate(-3, 3);
+  int tested = 0;
+  for (int t = 0; t < 300; ++t) {
+    std::array<Vec<D>, D> facet;
+    for (Vec<D>& p : facet)
+      for (double& c : p) c = coordinate(rng);
+    std::array<Vec<D>, D + 1> p;
+    std::copy(facet.begin(), facet.end(), p.begin());
+    p[D] = facet[t % D];  // on the facet: orient is 0
+    REQUIRE(orient<D>(p) == 0);
+    CHECK(perturbed_tie<D>(facet) == perturbed_orient<D>(p));
+    std::swap(facet[0], facet[1]);
+    std::swap(p[0], p[1]);
+    CHECK(perturbed_tie<D>(facet) == perturbed_orient<D>(p));
+    tested += perturbed_tie<D>(facet) != 0;
+  }
+  CHECK(tested > 200);
+}
+
+TEST_CASE("core perturbed_tie: in 2D, the side of the directed line a point on it is pushed to") {
+  // The e term (the x-shift) decides first: +1 when u.y > v.y.
+  CHECK(perturbed_tie<2>({Vec<2>{0, 1}, Vec<2>{0, 0}}) == 1);
+  CHECK(perturbed_tie<2>({Vec<2>{0, 0}, Vec<2>{0, 1}}) == -1);
+  // Horizontal: the e^2 term decides, by the direction along x.
+  CHECK(perturbed_tie<2>({Vec<2>{0, 0}, Vec<2>{1, 0}}) == 1);
+  CHECK(perturbed_tie<2>({Vec<2>{1, 0}, Vec<2>{0, 0}}) == -1);
+  CHECK(perturbed_tie<2>({Vec<2>{2, 2}, Vec<2>{2, 2}}) == 0);  // no line
+}
+
+TEST_CASE("core on_lattice: multiples of 2^-bits below the bound, and exact edge functions on them") {
+  CHECK(on_lattice(0.5, 10, 32768));
+  CHECK(on_lattice(-1234.0 + 3.0 / 1024, 10, 32768));
+  CHECK_FALSE(on_lattice(1.0 / 2048, 10, 32768));
+  CHECK_FALSE(on_lattice(32768, 10, 32768));
+  CHECK_FALSE(on_lattice(0.1, 10, 32768));
+  CHECK_FALSE(on_lattice(NAN, 10, 32768));
+  CHECK_FALSE(on_lattice(INFINITY, 10, 32768));
+  // The rasterizer's claim: with u, v on the 2^-10 lattice below 2^15 and
+  // (X, Y) integers below 2^15, (v.x - u.x)(Y - u.y) - (v.y - u.y)(X - u.x)
+  // has the exact sign (checked against integer arithmetic).
+  std::mt19937 rng(23);
+  std::uniform_int_distribution<long long> lattice(-(32760LL << 10), 32760LL << 10);
+  std::uniform_int_distribution<int> pixel(-32767, 32767);
+  const double unit = std::ldexp(1.0, -10);
+  int agree = 0;
+  const int trials = 2000;
+  for (int t = 0; t < trials; ++t) {
+    std::array<Vec<2>, 3> p;
+    p[0] = {lattice(rng) * unit, lattice(rng) * unit};
+    p[1] = {lattice(rng) * unit, lattice(rng) * unit};
+    if (t % 2) p[1] = {p[0][0] + (pixel(rng) % 8), p[0][1] + (pixel(rng) % 8)};  // short edges: near ties
+    p[2] = {double(pixel(rng)), double(pixel(rng))};
+    if (t % 4 == 1) p[2] = {std::round(p[0][0]), std::round(p[0][1])};
+    for (const Vec<2>& q : p) REQUIRE((on_lattice(q[0], 10, 32768) && on_lattice(q[1], 10, 32768)));
+    const double e = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
+    agree += ((e > 0) - (e < 0)) == exact_orient<2>(p, unit);
+  }
+  CHECK(agree == trials);
+}
+
+TEST_CASE("core lattice_exact: any point type through an accessor, as for the 2D mesh's points") {
+  struct XY {
+    double x, y;
+  };
+  const auto read = [](const XY& p, int k) { return k == 0 ? p.x : p.y; };
+  std::vector<XY> pixels = {{0.5, 0.5}, {1023.5, 767.5}};
+  std::vector<Vec<2>> same = {Vec<2>{0.5, 0.5}, Vec<2>{1023.5, 767.5}};
+  CHECK(lattice_exact<2>(pixels, read) == lattice_exact<2>(same));
+  CHECK(lattice_exact<2>(pixels, read));
+  pixels[1].y = 0.3;
+  CHECK_FALSE(lattice_exact<2>(pixels, read));
+}
