@@ -9,6 +9,7 @@
 #include "eval/classic_resize.hpp"
 #include "eval/comparison.hpp"
 #include "core/costs.hpp"
+#include "io/band_writer.hpp"
 #include "util/error.hpp"
 #include "io/image_io.hpp"
 #include "image/image_mesh.hpp"
@@ -53,6 +54,7 @@ int run_upscale_job(UpscaleArguments args) {
     if (args.threads > 0) {
       thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, args.threads);
       OIIO::attribute("threads", args.threads);
+      OIIO::attribute("exr_threads", args.threads);  // OpenEXR compresses blocks of rows in parallel
     }
     // A progress bar on a terminal for runs over a second, unless --quiet.
     ddt::Progress progress;
@@ -86,7 +88,8 @@ int run_upscale_job(UpscaleArguments args) {
       output_size(args, header.width, header.height, out_w, out_h);
       compare_gap = std::max(2, out_w / 256);
       const int written_w = args.compare.empty() ? out_w : 2 * out_w + compare_gap;
-      ddt::check_image_writable(args.output, written_w, out_h, header.channels, header.format, header.alpha_channel);
+      ddt::check_image_writable(args.output, written_w, out_h, header.channels, header.format, header.alpha_channel,
+                                args.writing.encode);
       if (!args.mesh_view.empty()) ddt::check_region(roi, header.width, header.height);
       ddt::check_memory_fits("this job", image_job_bytes(args, header, out_w, out_h));
     };
@@ -112,8 +115,20 @@ int run_upscale_job(UpscaleArguments args) {
     if (args.verbose) options.log = log;
     options.progress = &progress;
     options.tile_rows = args.tile_rows;
+    // Streamed (io/band_writer.hpp): bands of output rows are encoded as
+    // they are rendered, on a thread of their own; --compare joins two
+    // whole images, so it writes at the end.
+    const OIIO::ParamValueList metadata = ddt::scaled_metadata(
+        file.metadata, double(out_w) / file.image.width, double(out_h) / file.image.height);
+    std::unique_ptr<ddt::ImageBandWriter> writer;
+    if (!args.writing.no_stream && args.compare.empty()) {
+      writer = std::make_unique<ddt::ImageBandWriter>(args.output, out_w, out_h, file.image.channels, file.format,
+                                                      file.alpha_channel, &metadata, args.writing.encode);
+      options.output_rows = [&writer](ddt::Image rows, int first_row) { writer->write(std::move(rows), first_row); };
+    }
     ddt::UpscaleStats stats;
     ddt::Image out = ddt::upscale(file.image, out_w, out_h, options, &stats);
+    const int written_w = writer ? out_w : out.width, written_h = writer ? out_h : out.height;
     if (stats.consistency_skipped && !args.quiet)
       std::cerr << "ddtscale: warning: the image was processed in " << stats.tiles
                 << " tiles, where --model " << args.model << " is not applied (plain interpolation, --model point)\n";
@@ -140,13 +155,12 @@ int run_upscale_job(UpscaleArguments args) {
 
     t0 = std::chrono::steady_clock::now();
     progress.begin("write");
-    const OIIO::ParamValueList metadata = ddt::scaled_metadata(
-        file.metadata, double(out_w) / file.image.width, double(out_h) / file.image.height);
-    ddt::write_image(args.output, out, file.format, file.alpha_channel, &metadata);
+    if (writer) writer->finish();
+    else ddt::write_image(args.output, out, file.format, file.alpha_channel, &metadata, args.writing.encode);
     log("write: " + args.output + ", " + std::to_string(seconds_since(t0)) + " s");
     if (bar) bar->stop();
     if (!args.quiet && !args.verbose)
-      std::cerr << args.output << ": " << out.width << "x" << out.height << "\n";  // as written (--compare: both halves)
+      std::cerr << args.output << ": " << written_w << "x" << written_h << "\n";  // as written (--compare: both halves)
     return 0;
   } catch (const ddt::Error& e) {
     std::cerr << "ddtscale: " << e.what() << "\n";

@@ -1,5 +1,7 @@
 #include "upscale_arguments.hpp"
 
+#include "io/encode_options.hpp"
+
 #include "commands.hpp"
 #include "whole_number.hpp"
 
@@ -100,6 +102,7 @@ UpscaleCommandLine parse_upscale_command_line(int argc, const char* const* argv)
                  "not fit in half the memory; -1: never)")
       ->check(whole_number(-1, std::numeric_limits<int>::max()));
   add_batch_options(app, line.batch);
+  add_output_options(app, line.args.writing);
   app.footer(
       "\nCosts (the paper's weighted content, sum over triangles of area * weight):\n"
       "  sederberg       weight = mean over the triangle's edges of |g1||g2| - g1.g2 (default)\n"
@@ -161,6 +164,7 @@ UpscaleCommandLine parse_upscale_command_line(int argc, const char* const* argv)
 
 void validate_arguments(const UpscaleArguments& args) {
   ddt::find_cost(args.cost);  // fail fast on a typo
+  if (!args.output.empty()) ddt::check_encode_options(args.output, args.writing.encode);
   if (!(args.tolerance >= 0.0 && args.tolerance <= 1.0))  // CLI::Range lets NaN through
     throw ddt::Error("--tolerance must be a number in [0, 1]");
   if (!args.mesh_roi.empty()) ddt::parse_region(args.mesh_roi);
@@ -178,7 +182,10 @@ void output_size(const UpscaleArguments& args, int in_w, int in_h, int& out_w, i
 }
 
 double image_job_bytes(const UpscaleArguments& args, const ddt::ImageHeader& header, int out_w, int out_h) {
-  const double in_pixels = double(header.width) * header.height, out_pixels = double(out_w) * out_h;
+  const double in_pixels = double(header.width) * header.height;
+  // Streamed under the point model, a few bands of the output are held.
+  const bool bands = !args.writing.no_stream && args.compare.empty() && args.model == "point";
+  const double out_pixels = bands ? std::min(double(out_w) * out_h, 2048.0 * out_w) : double(out_w) * out_h;
   const double images = 4.0 * header.channels * (in_pixels + out_pixels * (args.compare.empty() ? 1 : 4));
   const bool tiled = ddt::optimizer_by_name(args.optimizer) == ddt::Optimizer::lawson && args.tile_rows >= 0;
   const double band = 200.0 * in_pixels;

@@ -14,6 +14,7 @@
 // None of them reads or writes a file, prints, or starts a thread.
 
 #include "batch.hpp"
+#include "output_options.hpp"
 
 #include "image/annealing.hpp"
 #include "pipeline/upscale.hpp"
@@ -55,6 +56,7 @@ struct UpscaleArguments {
   std::string compare;    // classic method shown left of DDT, or empty
   std::string mesh_view;  // path of the mesh drawing, or empty
   std::string mesh_roi;   // x,y,w,h
+  OutputOptions writing;  // --compression, --quality, --half, --tile-size, --no-stream
 };
 
 struct UpscaleCommandLine {
@@ -85,7 +87,8 @@ void validate_arguments(const UpscaleArguments& args);
 void output_size(const UpscaleArguments& args, int in_w, int in_h, int& out_w, int& out_h);
 
 // The memory the job holds at least, whatever the tiling, in bytes: the
-// decoded input and the output as floats (with --compare also the classic
+// decoded input and the output as floats (a few bands of it when streamed
+// under the point model; with --compare also the classic
 // half and the joined image), and the band being triangulated (about 200
 // bytes an input pixel, bounded by the tiling to half the physical memory).
 double image_job_bytes(const UpscaleArguments& args, const ddt::ImageHeader& header, int out_w, int out_h);

@@ -143,5 +143,40 @@ oiiotool "$work/in.png" "$work/in.png" --siappend -o "$work/two.tif"
 run_ok "two-page TIFF" "$work/two.tif" "$work/two_x2.png" --scale 2
 grep -q "pages or parts; only the first" "$work/err.txt" && ok || bad "two-page TIFF: no warning ($(cat "$work/err.txt"))"
 
+# Encoders (io/encode_options.hpp): a higher PNG level is no larger and
+# decodes to the same pixels; --half writes half floats; bad values fail in
+# one line.
+run_ok "png level 0" "$work/in.png" "$work/l0.png" --scale 3 --compression 0:none
+run_ok "png level 9" "$work/in.png" "$work/l9.png" --scale 3 --compression 9:adaptive
+[ "$(stat -c %s "$work/l9.png")" -le "$(stat -c %s "$work/l0.png")" ] && ok || bad "png level 9 larger than level 0"
+oiiotool "$work/l0.png" "$work/l9.png" --diff >/dev/null && ok || bad "png levels decode differently"
+run_ok "exr half" "$work/in.png" "$work/h.exr" --scale 2 --half --compression zip
+oiiotool --info "$work/h.exr" | grep -q half && ok || bad "--half: not a half EXR ($(oiiotool --info "$work/h.exr"))"
+run_ok "tiff lzw" "$work/in.png" "$work/c.tif" --scale 2 --compression lzw
+oiiotool --info -v "$work/c.tif" | grep -q 'compression: "lzw"' && ok || bad "tiff lzw not in the file"
+run_ok "jpeg quality" "$work/in.png" "$work/q.jpg" --scale 2 --quality 70
+run_fail "png level 10" "$work/in.png" "$work/o.png" --scale 2 --compression 10
+run_fail "exr method" "$work/in.png" "$work/o.exr" --scale 2 --compression zap
+run_fail "half png" "$work/in.png" "$work/o.png" --scale 2 --half
+run_fail "quality png" "$work/in.png" "$work/o.png" --scale 2 --quality 50
+run_fail "quality range" "$work/in.png" "$work/o.jpg" --scale 2 --quality 101
+
+# Streaming (io/band_writer.hpp): the file written by bands as they are
+# rendered is the one written whole, byte for byte (the input carries a
+# DateTime, so both outputs carry the same one).
+oiiotool "$work/in.png" --attrib DateTime "2026:01:02 03:04:05" -o "$work/dated.png"
+for ext in png tif exr; do
+  for model in point box; do
+    run_ok "stream $ext $model" "$work/dated.png" "$work/s.$ext" --scale 3 --model "$model" --tile-rows 8
+    run_ok "whole $ext $model" "$work/dated.png" "$work/w.$ext" --scale 3 --model "$model" --tile-rows 8 --no-stream
+    cmp -s "$work/s.$ext" "$work/w.$ext" && ok || bad "streamed $ext ($model) differs from the whole write"
+  done
+done
+run_ok "stream tiled tif" "$work/dated.png" "$work/t.tif" --scale 3 --model point --tile-size 32
+run_ok "whole tif point" "$work/dated.png" "$work/wp.tif" --scale 3 --model point --no-stream
+oiiotool "$work/t.tif" "$work/wp.tif" --diff >/dev/null && ok || bad "tiled TIFF pixels differ"
+run_fail "tile size" "$work/in.png" "$work/o.tif" --scale 2 --tile-size 20
+run_fail "tile png" "$work/in.png" "$work/o.png" --scale 2 --tile-size 32
+
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -72,6 +72,7 @@ struct AnnealOptions {
   std::function<void(int, double, long long, double)> on_step;
 };
 
+struct Image;     // an image of float samples (util/image.hpp in the sources)
 class Progress;  // the command line's progress bar (util/progress.hpp in the sources)
 
 // Outputs larger than this many pixels are refused by the command line and
@@ -128,6 +129,14 @@ struct UpscaleOptions {
   int tile_rows = 0;
   long long max_memory = 0;         // 0: half the physical memory
   Progress* progress = nullptr;     // stages and work done, for a progress bar; may be null
+  // Streaming (io/band_writer.hpp): when set, the output is handed to this
+  // in bands of rows, top to bottom, each row once, and upscale() returns
+  // an empty image. Under the point model (and in tiles) each band is
+  // rendered on its own, so the whole output is never held; the consistent
+  // reconstruction renders the whole output, then hands it out in bands.
+  // The rows are those of the returned image, bit for bit.
+  std::function<void(Image rows, int first_row)> output_rows;
+  int output_band_rows = 0;         // rows per band handed out; 0: about 24 MB of floats
 };
 
 }  // namespace ddt

@@ -1,5 +1,6 @@
 #include "io/image_io.hpp"
 
+#include "io/oiio_output.hpp"
 #include "util/error.hpp"
 
 #include <OpenImageIO/imagebufalgo.h>
@@ -22,6 +23,9 @@
 namespace fs = std::filesystem;
 
 namespace ddt {
+using detail::first_line;
+using detail::QuietLibraries;
+using detail::StagedFileProxy;
 namespace {
 
 SampleFormat sample_format_of(const OIIO::TypeDesc& t) {
@@ -33,13 +37,6 @@ SampleFormat sample_format_of(const OIIO::TypeDesc& t) {
     case OIIO::TypeDesc::HALF: return SampleFormat::half;
     default: return SampleFormat::float32;
   }
-}
-
-std::string first_line(std::string s) {
-  while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
-  auto nl = s.find('\n');
-  if (nl != std::string::npos) s = s.substr(0, nl);
-  return s;
 }
 
 std::string lower_extension(const std::string& path) {
@@ -64,38 +61,6 @@ OIIO::TypeDesc output_type(const std::string& path, SampleFormat source, const O
   (void)out;
   return wanted;
 }
-
-// libpng, under OpenImageIO, prints its own "libpng error: ..." (and
-// warnings) on stderr before OpenImageIO hands the same error to us; we
-// report it once, so stderr points at /dev/null while a file is read or
-// written (one line per bad input). Nested and concurrent guards share the
-// redirection; the last one out restores stderr.
-class QuietLibraries {
- public:
-  QuietLibraries() {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    if (users_++ > 0) return;
-    std::fflush(stderr);
-    saved_ = ::dup(STDERR_FILENO);
-    const int null = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
-    if (saved_ >= 0 && null >= 0) ::dup2(null, STDERR_FILENO);
-    if (null >= 0) ::close(null);
-  }
-  ~QuietLibraries() {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    if (--users_ > 0) return;
-    std::fflush(stderr);
-    if (saved_ >= 0) ::dup2(saved_, STDERR_FILENO), ::close(saved_);
-    saved_ = -1;
-  }
-  QuietLibraries(const QuietLibraries&) = delete;
-  QuietLibraries& operator=(const QuietLibraries&) = delete;
-
- private:
-  static inline std::mutex mutex_;
-  static inline int users_ = 0;
-  static inline int saved_ = -1;
-};
 
 // Attributes of an input carried to the output (ImageFile::metadata); the
 // rest describe the file's encoding (compression, planar layout, plugin
@@ -231,51 +196,15 @@ void check_output_path(const std::string& output, const std::string& input, bool
 namespace {
 
 OIIO::ImageSpec output_spec(const std::string& path, int width, int height, int channels, SampleFormat source_format,
-                            int alpha_channel, const OIIO::ImageOutput& out) {
+                            int alpha_channel, const OIIO::ImageOutput& out, const EncodeOptions& encode) {
   OIIO::ImageSpec spec(width, height, channels, output_type(path, source_format, out));
   if (alpha_channel >= 0 && alpha_channel < channels) {
     spec.alpha_channel = alpha_channel;
     spec.channelnames[alpha_channel].assign(1, 'A');
   }
-  if (spec.format == OIIO::TypeDesc::FLOAT && lower_extension(path) == ".exr")
-    spec.attribute("compression", "zip");
+  apply_encode_options(out.format_name(), encode, spec);
   return spec;
 }
-
-// OIIO's writer goes through this proxy into a file of a StagedOutput: a
-// failed write is remembered there (and reported after close) instead of
-// being returned to a plugin that may ignore it (libpng) or exit() on it
-// (libjpeg).
-class StagedFileProxy final : public OIIO::Filesystem::IOProxy {
- public:
-  StagedFileProxy(StagedOutput& stage, int file, const std::string& name)
-      : IOProxy(name, Write), stage_(stage), file_(file) {}
-  const char* proxytype() const override { return "ddtscale-staged"; }
-  void close() override { m_mode = Closed; }  // the StagedOutput syncs and closes
-  bool seek(int64_t offset) override {
-    m_pos = offset;
-    return offset >= 0;
-  }
-  size_t read(void* buf, size_t size) override {
-    const size_t n = stage_.read_at(file_, buf, size, m_pos);
-    m_pos += static_cast<int64_t>(n);
-    return n;
-  }
-  size_t write(const void* buf, size_t size) override {
-    stage_.write_at(file_, buf, size, m_pos);
-    m_pos += static_cast<int64_t>(size);
-    return size;
-  }
-  size_t pread(void* buf, size_t size, int64_t offset) override { return stage_.read_at(file_, buf, size, offset); }
-  size_t pwrite(const void* buf, size_t size, int64_t offset) override {
-    return stage_.write_at(file_, buf, size, offset);
-  }
-  size_t size() const override { return static_cast<size_t>(stage_.size(file_)); }
-
- private:
-  StagedOutput& stage_;
-  int file_;
-};
 
 // Writers whose open() validates the size and that encode row by row, so a
 // trial open at the full size costs nothing (checked for OIIO 2.4: the
@@ -289,7 +218,7 @@ bool trial_at_full_size(const std::string& format) {
 }  // namespace
 
 void check_image_writable(const std::string& path, int width, int height, int channels, SampleFormat source_format,
-                          int alpha_channel) {
+                          int alpha_channel, const EncodeOptions& encode) {
   auto out = OIIO::ImageOutput::create(path);
   if (!out) throw Error("cannot write '" + path + "': no image format for extension '" +
                         fs::path(path).extension().string() + "'");
@@ -301,10 +230,12 @@ void check_image_writable(const std::string& path, int width, int height, int ch
   if (format == "jpeg" && (width > 65500 || height > 65500))
     throw Error(refuse + "JPEG stores at most 65500 pixels a side, the image is " + std::to_string(width) + "x" +
                 std::to_string(height));
+  const OIIO::ImageSpec checked = output_spec(path, 1, 1, channels, source_format, alpha_channel, *out, encode);
+  (void)checked;  // the encoding options, checked against the sample type
   if (!out->supports("ioproxy")) return;  // a trial would create a file; its errors come at the write
   const bool full = trial_at_full_size(format);
   const OIIO::ImageSpec spec = output_spec(path, full ? width : std::min(width, 16), full ? height : std::min(height, 16),
-                                           channels, source_format, alpha_channel, *out);
+                                           channels, source_format, alpha_channel, *out, encode);
   std::vector<unsigned char> scratch;
   OIIO::Filesystem::IOVecOutput memory(scratch);
   out->set_ioproxy(&memory);
@@ -313,8 +244,46 @@ void check_image_writable(const std::string& path, int width, int height, int ch
   out.reset();  // close: a few bytes of header into `scratch`
 }
 
+OIIO::ImageSpec detail::written_spec(const std::string& path, int width, int height, int channels,
+                                     SampleFormat source_format, int alpha_channel,
+                                     const OIIO::ParamValueList* metadata, const EncodeOptions& encode,
+                                     const OIIO::ImageOutput& out, bool tiff_by_path) {
+  OIIO::ImageSpec spec = output_spec(path, width, height, channels, source_format, alpha_channel, out, encode);
+  // OpenImageIO 2.4's TIFF writer, through an IOProxy, writes a file
+  // without its ImageLength tag when EXIF or GPS tags are given (they go to
+  // a sub-directory): they are kept only when the TIFF is written by path.
+  const bool tiff = std::string(out.format_name()) == "tiff";
+  if (metadata)
+    for (const OIIO::ParamValue& p : *metadata) {
+      const std::string name = p.name().string();
+      if (tiff && !tiff_by_path && (name.rfind("Exif:", 0) == 0 || name.rfind("GPS:", 0) == 0)) continue;
+      if (name.rfind("ddtscale:", 0) == 0) continue;
+      spec.extra_attribs.add_or_replace(p);
+    }
+  if (metadata && out.format_name() == std::string("openexr")) {
+    const auto origin = metadata->find(data_origin, OIIO::TypeDesc(OIIO::TypeDesc::INT, 2), false);
+    const auto display = metadata->find(display_window, OIIO::TypeDesc(OIIO::TypeDesc::INT, 4), false);
+    if (origin != metadata->cend() && display != metadata->cend()) {
+      const int* o = static_cast<const int*>(origin->data());
+      const int* d = static_cast<const int*>(display->data());
+      spec.x = o[0], spec.y = o[1];
+      spec.full_x = d[0], spec.full_y = d[1], spec.full_width = d[2], spec.full_height = d[3];
+    }
+  }
+  return spec;
+}
+
+bool detail::tiff_needs_path(const OIIO::ImageOutput& out, const OIIO::ParamValueList* metadata) {
+  if (std::string(out.format_name()) != "tiff" || !metadata) return false;
+  for (const OIIO::ParamValue& p : *metadata) {
+    const std::string name = p.name().string();
+    if (name.rfind("Exif:", 0) == 0 || name.rfind("GPS:", 0) == 0) return true;
+  }
+  return false;
+}
+
 void write_image(const std::string& path, const Image& image, SampleFormat source_format, int alpha_channel,
-                 const OIIO::ParamValueList* metadata) {
+                 const OIIO::ParamValueList* metadata, const EncodeOptions& encode) {
   if (image.empty()) throw Error("cannot write '" + path + "': the image is empty");
   auto out = OIIO::ImageOutput::create(path);
   if (!out) throw Error("cannot write '" + path + "': no image format for extension '" +
@@ -333,7 +302,7 @@ void write_image(const std::string& path, const Image& image, SampleFormat sourc
     upright.remove("Orientation");
     upright.remove(data_origin);  // the windows describe the image as stored
     upright.remove(display_window);
-    write_image(path, image_from_buf(OIIO::ImageBufAlgo::reorient(buf)), source_format, alpha_channel, &upright);
+    write_image(path, image_from_buf(OIIO::ImageBufAlgo::reorient(buf)), source_format, alpha_channel, &upright, encode);
     return;
   }
   // libpng refuses an ICC profile it judges malformed (and with it the
@@ -343,42 +312,20 @@ void write_image(const std::string& path, const Image& image, SampleFormat sourc
     try {
       OIIO::ParamValueList checked = *metadata;
       checked.attribute("ddtscale:icc_checked", 1);
-      write_image(path, image, source_format, alpha_channel, &checked);
+      write_image(path, image, source_format, alpha_channel, &checked, encode);
       return;
     } catch (const Error& e) {
       if (std::string(e.what()).find("profile") == std::string::npos) throw;
     }
     OIIO::ParamValueList without = *metadata;
     without.remove("ICCProfile");
-    write_image(path, image, source_format, alpha_channel, &without);
+    write_image(path, image, source_format, alpha_channel, &without, encode);
     return;
   }
-  check_image_writable(path, image.width, image.height, image.channels, source_format, alpha_channel);
-  OIIO::ImageSpec spec =
-      output_spec(path, image.width, image.height, image.channels, source_format, alpha_channel, *out);
-  // OpenImageIO 2.4's TIFF writer, through an IOProxy, writes a file
-  // without its ImageLength tag when EXIF or GPS tags are given (they go to
-  // a sub-directory): such a TIFF is written by path instead, below.
-  bool by_path = !out->supports("ioproxy");
-  const bool tiff = std::string(out->format_name()) == "tiff";
-  if (metadata)
-    for (const OIIO::ParamValue& p : *metadata) {
-      const std::string name = p.name().string();
-      if (tiff && (name.rfind("Exif:", 0) == 0 || name.rfind("GPS:", 0) == 0)) by_path = true;
-      if (name.rfind("ddtscale:", 0) == 0) continue;
-      spec.extra_attribs.add_or_replace(p);
-    }
-
-  if (metadata && out->format_name() == std::string("openexr")) {
-    const auto origin = metadata->find(data_origin, OIIO::TypeDesc(OIIO::TypeDesc::INT, 2), false);
-    const auto display = metadata->find(display_window, OIIO::TypeDesc(OIIO::TypeDesc::INT, 4), false);
-    if (origin != metadata->cend() && display != metadata->cend()) {
-      const int* o = static_cast<const int*>(origin->data());
-      const int* d = static_cast<const int*>(display->data());
-      spec.x = o[0], spec.y = o[1];
-      spec.full_x = d[0], spec.full_y = d[1], spec.full_width = d[2], spec.full_height = d[3];
-    }
-  }
+  check_image_writable(path, image.width, image.height, image.channels, source_format, alpha_channel, encode);
+  const bool by_path = !out->supports("ioproxy") || detail::tiff_needs_path(*out, metadata);
+  const OIIO::ImageSpec spec = detail::written_spec(path, image.width, image.height, image.channels, source_format,
+                                                    alpha_channel, metadata, encode, *out, by_path);
 
   StagedOutput stage(path);
   const std::string name = stage.target().filename().string();

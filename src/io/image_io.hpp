@@ -9,6 +9,7 @@
 // one. Inputs must be regular files (devices and FIFOs are refused).
 
 #include "util/image.hpp"
+#include "io/encode_options.hpp"
 #include "io/safe_file.hpp"
 #include "util/size_limits.hpp"
 
@@ -60,13 +61,15 @@ struct ImageReadLimits {
 ImageFile read_image(const std::string& path, const ImageReadLimits& limits = {});
 
 // Writes `image` to `path`; the format follows the extension. EXR is written
-// as 32-bit float; integer formats keep `source_format`'s depth (8 or 16 bit,
+// as 32-bit float (16-bit with encode.half); integer formats keep `source_format`'s depth (8 or 16 bit,
 // float sources become 16 bit), rounded and clamped to 0..1.
 // metadata, when given, is written with the image where the format stores
 // it (ImageFile::metadata, through scaled_metadata; the windows in EXR).
+// `encode` chooses the compression, JPEG quality and half floats
+// (encode_options.hpp).
 void write_image(const std::string& path, const Image& image,
                  SampleFormat source_format, int alpha_channel = -1,
-                 const OIIO::ParamValueList* metadata = nullptr);
+                 const OIIO::ParamValueList* metadata = nullptr, const EncodeOptions& encode = {});
 
 // `metadata` for an image scale_x x scale_y times the size it was read at:
 // the resolution (pixels per unit) scaled so the printed size stays, the
@@ -94,8 +97,8 @@ void check_output_path(const std::string& output, const std::string& input, bool
 // `channels` channels from `source_format` samples (channel count, type,
 // size), so the refusal comes before any long work and before a plugin
 // that aborts on it (DPX with 2 or 5 channels) is handed the image.
-// write_image calls it too.
+// write_image calls it too. `encode` is checked against the format.
 void check_image_writable(const std::string& path, int width, int height, int channels, SampleFormat source_format,
-                          int alpha_channel = -1);
+                          int alpha_channel = -1, const EncodeOptions& encode = {});
 
 }  // namespace ddt

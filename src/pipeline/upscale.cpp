@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 namespace ddt {
 namespace {
@@ -52,6 +53,13 @@ int first_output_row(int y, int in_height, int out_height) {
   if (y >= in_height) return out_height;
   const double sy = static_cast<double>(out_height) / in_height;
   return std::clamp(static_cast<int>(std::ceil(y * sy - 0.5)), 0, out_height);
+}
+
+// Output rows per band handed to UpscaleOptions::output_rows.
+int streamed_band_rows(int out_width, int channels, const UpscaleOptions& options) {
+  if (options.output_band_rows > 0) return options.output_band_rows;
+  const double row_bytes = 4.0 * out_width * channels;
+  return std::clamp(static_cast<int>(24e6 / row_bytes), 16, 4096);
 }
 
 struct Band {
@@ -128,7 +136,7 @@ Mesh2 band_mesh(const std::vector<float>& values, int W, int C, const Band& band
 LawsonStats run_band(const Image& src, int src_top, int image_height, const Band& band, int out_width, int out_height,
                      const UpscaleOptions& options, const CostFunction& cost, const DriveChannels& drive,
                      long long region_triangles, int region_rows, const std::string& label, Image& out,
-                     UpscaleStats& local) {
+                     UpscaleStats& local, int margin = std::numeric_limits<int>::max()) {
   const StageRunner stages(options.log, options.progress, label);
   const int W = src.width, C = src.channels;
   const bool whole = band.top == 0 && band.bottom == image_height;
@@ -143,6 +151,9 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
 
   LawsonStats ls;
   const Mesh2 mesh = band_mesh(values, W, C, band, options, cost, drive, region_triangles, region_rows, stages, local, ls);
+  // A margin too narrow for the phases run: the caller redoes the band
+  // with a wider one, so nothing is drawn (or handed out) from this one.
+  if (options.optimize && band_margin_needed(ls.iterations, region_rows) > margin) return ls;
 
   auto t0 = Clock::now();
   RenderGrid grid;
@@ -164,14 +175,31 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
       gradients = gradients_of(part, options.slopes);
     }
   }
-  render_mesh_into(out, band.out_first - band.out_origin, mesh, values, C, grid, &rs, true,
-                   cubic ? &gradients : nullptr, stages.progress());
+  const std::vector<float>* patch_gradients = cubic ? &gradients : nullptr;
+  const bool consistent = options.model.kind != AcquisitionModel::Kind::point;
+  if (options.output_rows && !consistent) {
+    // Streamed: the band's output rows rendered and handed out a part at a time.
+    const int step = streamed_band_rows(out_width, C, options);
+    for (int first = band.out_first; first < band.out_end; first += step) {
+      RenderGrid part_grid = grid;
+      part_grid.first_row = first;
+      part_grid.rows = std::min(step, band.out_end - first);
+      Image part(out_width, part_grid.rows, C);
+      RenderStats part_stats;
+      render_mesh_into(part, 0, mesh, values, C, part_grid, &part_stats, true, patch_gradients, stages.progress());
+      rs.triangles = part_stats.triangles, rs.rim_triangles = part_stats.rim_triangles;
+      options.output_rows(std::move(part), first);
+    }
+  } else {
+    render_mesh_into(out, band.out_first - band.out_origin, mesh, values, C, grid, &rs, true, patch_gradients,
+                     stages.progress());
+  }
   const double seconds_render = seconds_since(t0);
   local.seconds_render += seconds_render;
   stages.log("render: " + std::to_string(out_width) + "x" + std::to_string(band.out_end - band.out_first) + ", " +
              std::to_string(rs.triangles) + " + " + std::to_string(rs.rim_triangles) + " rim triangles, " +
              std::to_string(seconds_render) + " s");
-  if (options.model.kind != AcquisitionModel::Kind::point) {
+  if (consistent) {
     if (!whole) throw Error("the consistent reconstruction does not run in tiles yet");
     t0 = Clock::now();
     stages.begin("consistency");
@@ -242,7 +270,9 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
     // values, cubic gradients, the band's own copy of its samples.
     const double per_pixel = 16 + 48 + 6 + 48 + (drive.identity ? 0 : 4.0 * drive.K) +
                              (options.render == Render::cubic ? 8.0 * C : 0) + 4.0 * C;
-    double fixed = 4.0 * C * (static_cast<double>(W) * H + static_cast<double>(out_width) * out_height);
+    // The output is held whole unless streamed (then a few bands of it).
+    const double held_output = options.output_rows ? 0.0 : static_cast<double>(out_width) * out_height;
+    double fixed = 4.0 * C * (static_cast<double>(W) * H + held_output);
     // The consistent reconstruction, untiled: a triangle owner per output
     // pixel; per input pixel the mesh's operator of about 8 nonzeros (8
     // bytes each, twice that while assembled) and about ten double vectors
@@ -252,8 +282,11 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
     const double budget = options.max_memory > 0 ? double(options.max_memory) : 0.5 * double(physical_memory());
     const double whole = fixed + per_pixel * W * H;
     if (whole > budget) {
-      const double rows = (budget - fixed) / (per_pixel * W);
-      tile_rows = std::max(256, static_cast<int>(rows * 0.8) - 512);
+      // Tiles run the point model: their rows are sized without the
+      // consistent reconstruction's memory, in two tiles at least.
+      const double tiled_fixed = 4.0 * C * (static_cast<double>(W) * H + held_output);
+      const double rows = (budget - tiled_fixed) / (per_pixel * W);
+      tile_rows = std::min((H + 1) / 2, std::max(256, static_cast<int>(rows * 0.8) - 512));
     }
   }
   // Bands reproduce the whole image's result only under the region
@@ -273,11 +306,26 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
   }
   const long long region_triangles = region_rows > 0 ? region_rows * cells_row : -1;
 
-  Image out(out_width, out_height, C);
+  // Streamed under the point model, every band hands its rows out itself;
+  // the consistent reconstruction needs the whole output first.
+  const bool streamed = static_cast<bool>(options.output_rows);
+  const bool whole_output = !streamed || band_options.model.kind != AcquisitionModel::Kind::point;
+  Image out = whole_output ? Image(out_width, out_height, C) : Image();
   if (tile_rows == 0) {
     const LawsonStats ls = run_band(src, 0, H, Band{0, H, 0, out_height}, out_width, out_height, band_options, cost, drive,
                                     region_triangles, region_rows, "", out, local);
     take_optimizer_stats(ls, local);
+    if (streamed && whole_output) {
+      const int step = streamed_band_rows(out_width, C, options);
+      const std::size_t row_floats = static_cast<std::size_t>(out_width) * C;
+      for (int first = 0; first < out_height; first += step) {
+        Image part(out_width, std::min(step, out_height - first), C);
+        std::copy_n(out.pixels.begin() + static_cast<std::ptrdiff_t>(row_floats * first), part.pixels.size(),
+                    part.pixels.begin());
+        options.output_rows(std::move(part), first);
+      }
+      out = Image();
+    }
   } else {
     // Bands of tile_rows rows with `margin` rows of overlap each side. In a
     // band, phase k of the optimizer reproduces the whole image's phase k
@@ -296,8 +344,9 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
                   first_output_row(y1, H, out_height)};
         UpscaleStats part;
         const std::string label = "tile " + std::to_string(i + 1) + "/" + std::to_string(tiles) + " ";
+        const int cut_margin = std::min(band.top > 0 ? y0 - band.top : H, band.bottom < H ? band.bottom - y1 : H);
         const LawsonStats ls = run_band(src, 0, H, band, out_width, out_height, band_options, cost, drive, region_triangles,
-                                        region_rows, label, out, part);
+                                        region_rows, label, out, part, cut_margin);
         const int needed = band_margin_needed(ls.iterations, region_rows);
         if (options.optimize && needed > margin) {
           margin = needed + region_rows;
@@ -366,10 +415,11 @@ Image upscale_rows(const Image& rows, int top, int image_height, int first, int 
   band.out_origin = band.out_first;
   Image out(out_width, band.out_end - band.out_first, rows.channels);
   UpscaleStats local;
-  const LawsonStats ls = run_band(rows, top, image_height, band, out_width, out_height, options, cost, drive,
-                                  region_triangles, region_rows, "", out, local);
-  take_optimizer_stats(ls, local);
   local.tile_margin = std::min(top > 0 ? first - top : image_height, bottom < image_height ? bottom - end : image_height);
+  const LawsonStats ls = run_band(rows, top, image_height, band, out_width, out_height, options, cost, drive,
+                                  region_triangles, region_rows, "", out, local, whole ? std::numeric_limits<int>::max()
+                                                                                      : local.tile_margin);
+  take_optimizer_stats(ls, local);
   if (!whole && options.optimize && band_margin_needed(ls.iterations, region_rows) > local.tile_margin)
     throw Error("a margin of " + std::to_string(local.tile_margin) + " rows is too narrow for the " +
                 std::to_string(ls.iterations) + " phases of the optimizer: give at least " +

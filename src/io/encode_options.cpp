@@ -1,0 +1,145 @@
+#include "io/encode_options.hpp"
+
+#include "util/error.hpp"
+
+#include <png.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <vector>
+
+namespace ddt {
+namespace {
+
+struct NamedValue {
+  const char* name;
+  int value;
+};
+
+// libpng's filter flags (png_set_filter), as OpenImageIO's "png:filter" passes them.
+constexpr NamedValue png_filters[] = {{"none", PNG_FILTER_NONE}, {"sub", PNG_FILTER_SUB},     {"up", PNG_FILTER_UP},
+                                      {"avg", PNG_FILTER_AVG},   {"paeth", PNG_FILTER_PAETH}, {"adaptive", PNG_ALL_FILTERS}};
+
+const std::vector<std::string> exr_compressions = {"none", "rle",   "zips", "zip",  "piz",
+                                                   "pxr24", "b44", "b44a", "dwaa", "dwab"};
+const std::vector<std::string> tiff_compressions = {"none", "lzw", "zip", "packbits", "jpeg"};
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string s;
+  for (const auto& n : names) s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
+
+// "NAME" or "NAME:NUMBER": the name, and the number (or `absent`).
+// Throws when the number is not a whole number within [lo, hi].
+int split_level(const std::string& text, std::string& name, int absent, int lo, int hi, const std::string& what) {
+  const auto colon = text.find(':');
+  name = text.substr(0, colon);
+  if (colon == std::string::npos) return absent;
+  const std::string number = text.substr(colon + 1);
+  const bool digits = !number.empty() && number.size() <= 3 &&
+                      std::all_of(number.begin(), number.end(), [](char c) { return c >= '0' && c <= '9'; });
+  const int value = digits ? std::stoi(number) : -1;
+  if (!digits || value < lo || value > hi)
+    throw Error("--compression " + text + ": " + what + " must be a whole number from " + std::to_string(lo) +
+                " to " + std::to_string(hi));
+  return value;
+}
+
+// PNG: LEVEL[:FILTER]; returns the level and sets `filter`.
+int parse_png(const std::string& text, int& filter) {
+  const auto colon = text.find(':');
+  const std::string level = text.substr(0, colon);
+  const std::string name = colon == std::string::npos ? "up" : text.substr(colon + 1);
+  if (level.size() != 1 || level[0] < '0' || level[0] > '9')
+    throw Error("--compression " + text + ": PNG takes LEVEL[:FILTER], LEVEL a zlib level from 0 to 9 (e.g. 1:up)");
+  for (const NamedValue& f : png_filters)
+    if (name == f.name) {
+      filter = f.value;
+      return level[0] - '0';
+    }
+  throw Error("--compression " + text + ": unknown PNG filter '" + name +
+              "' (none, sub, up, avg, paeth or adaptive)");
+}
+
+}  // namespace
+
+std::string output_format_name(const std::string& path) {
+  auto out = OIIO::ImageOutput::create(path);
+  return out ? std::string(out->format_name()) : std::string();
+}
+
+std::string default_compression(const std::string& format_name) {
+  if (format_name == "png") return "1:up";
+  if (format_name == "openexr") return "piz";
+  if (format_name == "tiff") return "zip";
+  return "";
+}
+
+void check_encode_options(const std::string& path, const EncodeOptions& options) {
+  // The sample type is known once the input's header is read
+  // (check_image_writable); here the choices are checked by name.
+  OIIO::ImageSpec scratch(1, 1, 3, options.half ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+  apply_encode_options(output_format_name(path), options, scratch);
+}
+
+void apply_encode_options(const std::string& format_name, const EncodeOptions& options, OIIO::ImageSpec& spec) {
+  const std::string& format = format_name;
+  const std::string shown = format == "openexr" ? "EXR" : format.empty() ? "this format" : format;
+  if (!options.compression.empty() && default_compression(format).empty())
+    throw Error("--compression: " + shown + " output has no compression choice (PNG, EXR and TIFF do)");
+  if (options.quality != 0 && format != "jpeg")
+    throw Error("--quality is for JPEG output (TIFF: --compression jpeg:QUALITY)");
+  if (options.quality < 0 || options.quality > 100) throw Error("--quality must be a whole number from 1 to 100");
+  const bool float_tiff = format == "tiff" && spec.format.basetype == OIIO::TypeDesc::FLOAT;
+  if (options.half && format != "openexr" && !float_tiff)
+    throw Error("--half is for EXR output (and TIFF of float images)");
+  if (options.tile != 0 && format != "tiff" && format != "openexr")
+    throw Error("--tile-size is for TIFF and EXR output");
+  if (options.tile != 0 && (options.tile < 16 || options.tile % 16 != 0 || options.tile > 65536))
+    throw Error("--tile-size must be a multiple of 16 from 16 to 65536");
+  if (options.tile != 0) {
+    spec.tile_width = spec.tile_height = options.tile;
+    spec.tile_depth = 1;
+  }
+  if (format == "jpeg") {
+    const int quality = options.quality > 0 ? options.quality : 90;
+    spec.attribute("compression", "jpeg:" + std::to_string(quality));
+    spec.attribute("CompressionQuality", quality);
+    return;
+  }
+  const std::string text = options.compression.empty() ? default_compression(format) : options.compression;
+  if (text.empty()) return;
+  if (format == "png") {
+    int filter = PNG_FILTER_UP;
+    spec.attribute("png:compressionLevel", parse_png(text, filter));
+    spec.attribute("png:filter", filter);
+    spec.attribute("compression", "default");  // the zlib strategy
+  } else if (format == "openexr") {
+    std::string name;
+    const int level = split_level(text, name, -1, 1, 999, "the DWA level");
+    if (std::find(exr_compressions.begin(), exr_compressions.end(), name) == exr_compressions.end())
+      throw Error("--compression " + text + ": EXR compression is one of " + joined(exr_compressions));
+    if (level >= 0 && name != "dwaa" && name != "dwab")
+      throw Error("--compression " + text + ": only dwaa and dwab take a level");
+    spec.attribute("compression", name);
+    if (level >= 0) spec.attribute("openexr:dwaCompressionLevel", static_cast<float>(level));
+    if (options.half) spec.set_format(OIIO::TypeDesc::HALF);
+  } else if (format == "tiff") {
+    std::string name;
+    const int level = split_level(text, name, -1, 1, 100, "the level");
+    if (std::find(tiff_compressions.begin(), tiff_compressions.end(), name) == tiff_compressions.end())
+      throw Error("--compression " + text + ": TIFF compression is one of " + joined(tiff_compressions));
+    if (level >= 0 && name != "zip" && name != "jpeg")
+      throw Error("--compression " + text + ": only zip (1 to 9) and jpeg (quality 1 to 100) take a level");
+    if (name == "zip" && level > 9) throw Error("--compression " + text + ": the zip level must be from 1 to 9");
+    if (name == "jpeg" && spec.format.basetype != OIIO::TypeDesc::UINT8 && spec.format.size() > 1)
+      throw Error("--compression jpeg: TIFF stores JPEG for 8-bit images only");
+    spec.attribute("compression", name);
+    if (name == "zip") spec.attribute("tiff:zipquality", level >= 0 ? level : 6);
+    if (name == "jpeg") spec.attribute("CompressionQuality", level >= 0 ? level : 90);
+    if (options.half) spec.set_format(OIIO::TypeDesc::HALF);
+  }
+}
+
+}  // namespace ddt

@@ -1,0 +1,51 @@
+#pragma once
+// How an output image is encoded: compression, quality and sample type,
+// per format, handed to OpenImageIO's writers as ImageSpec attributes.
+//
+// compression (empty: the format's default, default_compression):
+//   PNG   LEVEL[:FILTER], LEVEL 0..9 (zlib), FILTER none, sub, up, avg,
+//         paeth or adaptive (libpng picks one per row); default 1:up
+//         (docs/performance.md: zlib 6 took 9x the time for 0.8x the bytes)
+//   EXR   none, rle, zips, zip, piz, pxr24, b44, b44a, dwaa, dwab, with
+//         :LEVEL for dwaa/dwab (lossy; 45 by default); default piz
+//   TIFF  none, lzw, zip[:LEVEL 1..9], packbits, jpeg[:QUALITY]; default zip
+//   other formats refuse the option
+// quality: JPEG and WebP quality 1..100 (0: the default, 90); other formats
+//   refuse it.
+// half: EXR (and float TIFF) samples as 16-bit half floats instead of 32-bit
+//   floats; refused for formats without half samples.
+// tile: TIFF and EXR written in tiles of tile x tile pixels (a multiple of
+//   16) instead of scanlines or strips: what viewers of huge images read
+//   fastest; 0: scanlines.
+//
+// Errors: check_encode_options throws ddt::Error with a one-line message
+// naming the option and what it accepts.
+
+#include <OpenImageIO/imageio.h>
+
+#include <string>
+
+namespace ddt {
+
+struct EncodeOptions {
+  std::string compression;
+  int quality = 0;
+  bool half = false;
+  int tile = 0;
+};
+
+// OpenImageIO's format name of an output path ("png", "openexr", "tiff",
+// "jpeg", ...), or "" when no format claims its extension.
+std::string output_format_name(const std::string& path);
+
+// The compression used when none is given ("" for formats without one).
+std::string default_compression(const std::string& format_name);
+
+// Throws unless `options` suit the output format of `path`.
+void check_encode_options(const std::string& path, const EncodeOptions& options);
+
+// Sets the attributes of `options` (checked) on `spec` for `format_name`;
+// the sample type follows `half` for EXR. Call after the spec's format is set.
+void apply_encode_options(const std::string& format_name, const EncodeOptions& options, OIIO::ImageSpec& spec);
+
+}  // namespace ddt

@@ -1,0 +1,131 @@
+#include "io/encode_options.hpp"
+#include "io/image_io.hpp"
+#include "util/error.hpp"
+
+#include "test_support.hpp"
+
+#include <OpenImageIO/imageio.h>
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <filesystem>
+
+using namespace ddt;
+using ddt::test::TempDir;
+
+namespace {
+
+// A smooth gradient with fine texture: compressible, but not trivially.
+Image texture(int w, int h) {
+  Image img(w, h, 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c)
+        img.at(x, y, c) = 0.5f + 0.3f * std::sin(0.05f * x + 0.07f * y + c) + 0.02f * std::sin(1.3f * x * y + c);
+  return img;
+}
+
+OIIO::ImageSpec spec_of(const std::string& path) {
+  auto in = OIIO::ImageInput::open(path);
+  REQUIRE(in);
+  return in->spec();
+}
+
+}  // namespace
+
+TEST_CASE("write_image: PNG levels and filters round-trip the same pixels; a higher level is no larger") {
+  const TempDir dir;
+  const Image img = texture(96, 64);
+  const ImageFile reference = [&] {
+    write_image(dir / "default.png", img, SampleFormat::uint8);
+    return read_image(dir / "default.png");
+  }();
+  std::uintmax_t previous = 0;
+  for (const char* level : {"0:none", "1:up", "9:adaptive"}) {
+    EncodeOptions encode;
+    encode.compression = level;
+    const std::string path = dir / (std::string("l") + level[0] + ".png");
+    write_image(path, img, SampleFormat::uint8, -1, nullptr, encode);
+    CHECK(read_image(path).image.pixels == reference.image.pixels);
+    const std::uintmax_t size = std::filesystem::file_size(path);
+    if (previous) CHECK(size <= previous);
+    previous = size;
+  }
+  // Level 0 stores the rows: at least the raw bytes (3 per pixel, 1 filter byte per row).
+  CHECK(std::filesystem::file_size(dir / "l0.png") >= std::uintmax_t(96 * 64 * 3 + 64));
+}
+
+TEST_CASE("write_image: EXR compression and --half reach the file") {
+  const TempDir dir;
+  const Image img = texture(40, 30);
+  write_image(dir / "default.exr", img, SampleFormat::uint8);
+  OIIO::ImageSpec spec = spec_of(dir / "default.exr");
+  CHECK(spec.get_string_attribute("compression") == default_compression("openexr"));
+  CHECK(spec.format == OIIO::TypeDesc::FLOAT);
+  CHECK(read_image(dir / "default.exr").image.pixels == img.pixels);
+
+  EncodeOptions encode;
+  encode.compression = "zip";
+  encode.half = true;
+  write_image(dir / "half.exr", img, SampleFormat::uint8, -1, nullptr, encode);
+  spec = spec_of(dir / "half.exr");
+  CHECK(spec.format == OIIO::TypeDesc::HALF);
+  CHECK(spec.get_string_attribute("compression") == "zip");
+  const ImageFile half = read_image(dir / "half.exr");
+  CHECK(half.format == SampleFormat::half);
+  for (std::size_t i = 0; i < img.pixels.size(); ++i)  // half floats: 11 significant bits
+    CHECK(std::abs(half.image.pixels[i] - img.pixels[i]) <= std::abs(img.pixels[i]) * (1.0f / 2048));
+}
+
+TEST_CASE("write_image: TIFF compression and JPEG quality reach the file") {
+  const TempDir dir;
+  const Image img = texture(64, 48);
+  EncodeOptions encode;
+  encode.compression = "lzw";
+  write_image(dir / "a.tif", img, SampleFormat::uint8, -1, nullptr, encode);
+  CHECK(spec_of(dir / "a.tif").get_string_attribute("compression") == "lzw");
+  CHECK(read_image(dir / "a.tif").image.pixels == read_image(dir / "a.tif").image.pixels);
+  EncodeOptions low, high;
+  low.quality = 20;
+  high.quality = 98;
+  write_image(dir / "low.jpg", img, SampleFormat::uint8, -1, nullptr, low);
+  write_image(dir / "high.jpg", img, SampleFormat::uint8, -1, nullptr, high);
+  CHECK(std::filesystem::file_size(dir / "low.jpg") < std::filesystem::file_size(dir / "high.jpg"));
+}
+
+TEST_CASE("check_encode_options: bad values are refused with the option's name") {
+  auto refused = [](const std::string& path, EncodeOptions e, const std::string& words) {
+    try {
+      check_encode_options(path, e);
+      FAIL("accepted: " << path << " " << e.compression);
+    } catch (const Error& err) {
+      const std::string what = err.what();
+      CHECK_MESSAGE(what.find(words) != std::string::npos, what);
+      CHECK(what.find('\n') == std::string::npos);
+    }
+  };
+  EncodeOptions e;
+  e.compression = "10";
+  refused("o.png", e, "from 0 to 9");
+  e.compression = "3:diagonal";
+  refused("o.png", e, "unknown PNG filter");
+  e.compression = "zap";
+  refused("o.exr", e, "EXR compression is one of");
+  e.compression = "zip:4";
+  refused("o.exr", e, "only dwaa and dwab");
+  e.compression = "zip:12";
+  refused("o.tif", e, "from 1 to 9");
+  e.compression = "zip";
+  refused("o.jpg", e, "--compression");
+  EncodeOptions q;
+  q.quality = 50;
+  refused("o.png", q, "--quality");
+  EncodeOptions h;
+  h.half = true;
+  refused("o.png", h, "--half");
+  EncodeOptions fine;
+  fine.compression = "dwaa:60";
+  CHECK_NOTHROW(check_encode_options("o.exr", fine));
+  fine.compression = "6:paeth";
+  CHECK_NOTHROW(check_encode_options("o.png", fine));
+}
