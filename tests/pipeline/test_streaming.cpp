@@ -54,7 +54,7 @@ TEST_CASE("upscale: streamed rows equal the whole output, point model, whole and
       CAPTURE(tile_rows);
       UpscaleOptions opt;
       opt.model.kind = AcquisitionModel::Kind::point;
-      opt.render = render;
+      opt.render = render_by_name(render);
       opt.region_rows = 8;
       opt.tile_rows = tile_rows;
       opt.output_band_rows = 17;  // bands that divide neither the output nor the tiles
