@@ -9,7 +9,7 @@ packages=(
   libeigen3-dev doctest-dev libtbb-dev libcli11-dev
   libteem-dev
   libcsv-dev
-  libopencv-dev libvips-dev
+  libopencv-dev libvips-dev libvips-tools
   pybind11-dev python3-dev python3-numpy python3-pytest python3-dask python3-distributed
   clang libclang-rt-14-dev
 )
