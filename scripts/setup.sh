@@ -9,12 +9,8 @@ packages=(
   libeigen3-dev doctest-dev libtbb-dev libcli11-dev
   libteem-dev
   libcsv-dev
-<<<<<<< HEAD
   liblcms2-dev
-  libopencv-dev libvips-dev
-=======
   libopencv-dev libvips-dev libvips-tools
->>>>>>> stream
   pybind11-dev python3-dev python3-numpy python3-pytest python3-dask python3-distributed
   clang libclang-rt-14-dev
 )
