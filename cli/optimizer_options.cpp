@@ -16,19 +16,8 @@ void add_optimizer_options(CLI::App& app, std::string& optimizer, ddt::AnnealOpt
                  "only together)")
       ->check(CLI::IsMember(ddt::optimizer_names()))
       ->capture_default_str();
-  // A finite number >= 0 (CLI::NonNegativeNumber passes NaN and answers
-  // "inf" with a 309-digit bound).
-  const CLI::Validator non_negative(
-      [](std::string& text) -> std::string {
-        double value = 0;
-        try {
-          value = std::stod(text);
-        } catch (const std::exception&) {
-          return "'" + text + "' is not a number";
-        }
-        return value >= 0 && std::isfinite(value) ? std::string() : "must be a finite number >= 0, got '" + text + "'";
-      },
-      "FLOAT >= 0");
+  const CLI::Validator non_negative = real_number([](double v) { return v >= 0 && std::isfinite(v); },
+                                                  "be a finite number >= 0", "FLOAT >= 0");
   app.add_option("--seed", anneal.seed, "anneal: seed of the random moves (same seed, same result)")
       ->check(whole_number(0))
       ->capture_default_str();
@@ -41,17 +30,8 @@ void add_optimizer_options(CLI::App& app, std::string& optimizer, ddt::AnnealOpt
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
   // Strictly inside (0, 1): T must fall, and never to 0.
-  const CLI::Validator open_unit_interval(
-      [](std::string& text) -> std::string {
-        double value = 0;
-        try {
-          value = std::stod(text);
-        } catch (const std::exception&) {
-          return "'" + text + "' is not a number";
-        }
-        return value > 0 && value < 1 ? std::string() : "must lie strictly between 0 and 1";
-      },
-      "FLOAT in (0, 1)");
+  const CLI::Validator open_unit_interval =
+      real_number([](double v) { return v > 0 && v < 1; }, "lie strictly between 0 and 1", "FLOAT in (0, 1)");
   app.add_option("--anneal-cooling", anneal.cooling, "anneal: T is multiplied by this after each step")
       ->check(open_unit_interval)
       ->capture_default_str();

@@ -1,8 +1,10 @@
 #include "whole_number.hpp"
 
 #include <charconv>
+#include <exception>
 #include <string>
 #include <system_error>
+#include <utility>
 
 CLI::Validator whole_number(long long lo, long long hi) {
   const bool unbounded = hi == std::numeric_limits<long long>::max();
@@ -24,4 +26,19 @@ CLI::Validator whole_number(long long lo, long long hi) {
         return std::string();
       },
       unbounded ? "INT >= " + std::to_string(lo) : "INT in " + std::to_string(lo) + ".." + std::to_string(hi));
+}
+
+CLI::Validator real_number(std::function<bool(double)> accept, const std::string& requirement,
+                           const std::string& description) {
+  return CLI::Validator(
+      [accept = std::move(accept), requirement](std::string& text) -> std::string {
+        double value = 0;
+        try {
+          value = std::stod(text);
+        } catch (const std::exception&) {
+          return "'" + text + "' is not a number";
+        }
+        return accept(value) ? std::string() : "must " + requirement + ", got '" + text + "'";
+      },
+      description);
 }

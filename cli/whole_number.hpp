@@ -11,6 +11,14 @@
 
 #include <CLI/CLI.hpp>
 
+#include <functional>
 #include <limits>
+#include <string>
 
 CLI::Validator whole_number(long long lo, long long hi = std::numeric_limits<long long>::max());
+
+// A real number (std::stod's reading) that `accept` takes, else
+// "must <requirement>, got '<text>'" (CLI11's own checks pass NaN and answer "inf" with a
+// 309-digit bound); `description` is the type shown in --help.
+CLI::Validator real_number(std::function<bool(double)> accept, const std::string& requirement,
+                           const std::string& description);
