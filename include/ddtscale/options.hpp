@@ -133,7 +133,9 @@ struct UpscaleOptions {
   // in bands of rows, top to bottom, each row once, and upscale() returns
   // an empty image. Under the point model (and in tiles) each band is
   // rendered on its own, so the whole output is never held; the consistent
-  // reconstruction renders the whole output, then hands it out in bands.
+  // reconstruction holds the whole output and hands out each band as soon
+  // as its last, footprint-local steps are done (box model at integer
+  // scales; other models and scales once the whole output is).
   // The rows are those of the returned image, bit for bit.
   std::function<void(Image rows, int first_row)> output_rows;
   int output_band_rows = 0;         // rows per band handed out; 0: about 24 MB of floats

@@ -104,27 +104,55 @@ void make_consistent(Image& out, const Mesh2& mesh, const Image& src, const Cons
   local.seconds_solve = seconds_since(t0);
 
   t0 = std::chrono::steady_clock::now();
-  grid.add_to(out, delta_grid);
-  // Under the box model a footprint crossed by one straight edge shows
-  // where the edge passes inside it: drawn as that edge (step_edges.hpp).
-  if (options.step_edges && options.model.kind == AcquisitionModel::Kind::box)
-    local.step_edge_footprints = render_step_edges(out, src);
-  if (options.limit_halos) local.halo_footprints = limit_halos(out, src);
-  // Where these moved a footprint's acquisition (models other than box,
-  // non-integer scales), one more exact correction on the grid; box at
-  // integer scales acquires exactly the footprint means they kept.
+  // The grid correction, then under the box model a footprint crossed by
+  // one straight edge drawn as that edge (step_edges.hpp), then the halo
+  // limit: each reads and writes its own footprint's pixels only, so they
+  // run band by band, a band of input rows at a time.
+  const FootprintPixels footprints = footprint_pixels(W, H, out.width, out.height);
+  const bool draw_edges = options.step_edges && options.model.kind == AcquisitionModel::Kind::box;
+  const StepEdgeRenderer edges(src);
+  const HaloLimiter halos(src);
+  auto finish_rows = [&](int first, int end) {
+    grid.add_to(out, delta_grid, footprints.first_y[first], footprints.first_y[end]);
+    if (draw_edges) local.step_edge_footprints += edges.render(out, first, end);
+    if (options.limit_halos) local.halo_footprints += halos.limit(out, first, end);
+  };
+  auto hand_out = [&](int first, int end) {  // output rows
+    if (!options.output_rows || first >= end) return;
+    Image rows(out.width, end - first, C);
+    const std::size_t row_floats = static_cast<std::size_t>(out.width) * C;
+    std::copy_n(out.pixels.begin() + static_cast<std::ptrdiff_t>(row_floats * first), rows.pixels.size(),
+                rows.pixels.begin());
+    options.output_rows(std::move(rows), first);
+  };
+  // Box at integer scales acquires exactly the footprint means the last
+  // steps keep; elsewhere they move the acquisition, and one more exact
+  // correction on the grid follows, over the whole image.
   const bool kept_exactly =
       options.model.kind == AcquisitionModel::Kind::box && out.width % W == 0 && out.height % H == 0;
-  if (!kept_exactly && local.halo_footprints + local.step_edge_footprints > 0) {
-    std::vector<double> rest;
-    acquisition.apply(out, 0, 0, H, rest);
-    subtract_from(src, rest);
-    if (max_abs(rest) > 10 * options.tolerance) {
-      std::vector<double> delta;
-      grid.solve(rest, delta, C);
-      grid.add_to(out, delta);
-      ++local.halo_passes;
+  const int band_out_rows = std::max(1, options.output_band_rows);
+  if (kept_exactly && options.output_rows) {
+    const int band = std::max(1, band_out_rows * H / out.height);
+    for (int first = 0; first < H; first += band) {
+      const int end = std::min(H, first + band);
+      finish_rows(first, end);
+      hand_out(footprints.first_y[first], footprints.first_y[end]);
     }
+  } else {
+    finish_rows(0, H);
+    if (!kept_exactly && local.halo_footprints + local.step_edge_footprints > 0) {
+      std::vector<double> rest;
+      acquisition.apply(out, 0, 0, H, rest);
+      subtract_from(src, rest);
+      if (max_abs(rest) > 10 * options.tolerance) {
+        std::vector<double> delta;
+        grid.solve(rest, delta, C);
+        grid.add_to(out, delta);
+        ++local.halo_passes;
+      }
+    }
+    for (int first = 0; first < out.height; first += band_out_rows)
+      hand_out(first, std::min(out.height, first + band_out_rows));
   }
   local.seconds_render = seconds_since(t0);
   if (stats) *stats = local;

@@ -39,6 +39,8 @@
 #include "util/image.hpp"
 #include "image/mesh.hpp"
 
+#include <functional>
+
 namespace ddt {
 
 struct ConsistencyOptions {
@@ -47,6 +49,13 @@ struct ConsistencyOptions {
   double tolerance = 1e-6;      // a final grid correction where limiting left more than 10x this
   bool limit_halos = true;      // clamp overshoots beside edges, keeping each footprint's mean
   bool step_edges = true;       // box model: footprints on one straight edge drawn as that edge
+  // When set, the corrected output is also handed to this in bands of
+  // about output_band_rows rows, top to bottom, each row once. Where the
+  // last steps are local to each footprint (box at integer scales) a band
+  // is handed out as soon as it is finished, so that its encoding overlaps
+  // the work on the next; elsewhere once the whole output is.
+  std::function<void(Image rows, int first_row)> output_rows;
+  int output_band_rows = 256;
 };
 
 struct ConsistencyStats {

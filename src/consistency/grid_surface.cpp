@@ -116,13 +116,16 @@ void GridSurface::solve(const std::vector<double>& r, std::vector<double>& v, in
   });
 }
 
-void GridSurface::add_to(Image& out, const std::vector<double>& values) const {
+void GridSurface::add_to(Image& out, const std::vector<double>& values, int first_row, int end_row) const {
   const int W = width_, C = out.channels;
   if (out.width != out_width_ || out.height != out_height_ ||
       values.size() != static_cast<std::size_t>(W) * height_ * C)
     throw Error("grid surface: values or output of another grid");
   const Axis &ax = *x_, &ay = *y_;
-  tbb::parallel_for(0, out.height, [&](int Y) {
+  if (end_row < 0 || end_row > out.height) end_row = out.height;
+  first_row = std::max(0, first_row);
+  if (first_row >= end_row) return;
+  tbb::parallel_for(first_row, end_row, [&](int Y) {
     // The two input rows this output row lies between, interpolated once.
     const double fy = ay.frac[Y];
     const double* r0 = &values[static_cast<std::size_t>(ay.lower[Y]) * W * C];

@@ -43,8 +43,9 @@ class GridSurface {
   void acquire(const std::vector<double>& v, std::vector<double>& y, int channels) const;
   // v with G v = r, exact up to rounding.
   void solve(const std::vector<double>& r, std::vector<double>& v, int channels) const;
-  // Adds the surface with vertex values v to `out` (the output grid) in place.
-  void add_to(Image& out, const std::vector<double>& v) const;
+  // Adds the surface with vertex values v to `out` (the output grid) in
+  // place, on output rows [first_row, end_row) (end_row < 0: to the last).
+  void add_to(Image& out, const std::vector<double>& v, int first_row = 0, int end_row = -1) const;
 
  private:
   struct Axis;

@@ -71,16 +71,27 @@ double mean_keeping_shift(const std::vector<float>& o, double mean, double lo, d
   return t;
 }
 
-long long limit_halos(Image& out, const Image& src) {
+HaloLimiter::HaloLimiter(const Image& src)
+    : src_(src), image_min_(src.channels, INFINITY), image_max_(src.channels, -INFINITY) {
+  const int C = src.channels;
+  for (std::size_t i = 0; i < src.pixels.size(); ++i) {
+    image_min_[i % C] = std::min(image_min_[i % C], src.pixels[i]);
+    image_max_[i % C] = std::max(image_max_[i % C], src.pixels[i]);
+  }
+}
+
+long long limit_halos(Image& out, const Image& src) { return HaloLimiter(src).limit(out); }
+
+long long HaloLimiter::limit(Image& out, int first_row, int end_row) const {
+  const Image& src = src_;
+  const std::vector<float>&image_min = image_min_, &image_max = image_max_;
   const FootprintPixels f = footprint_pixels(src.width, src.height, out.width, out.height);
   const int C = src.channels;
-  std::vector<float> image_min(C, INFINITY), image_max(C, -INFINITY);
-  for (std::size_t i = 0; i < src.pixels.size(); ++i) {
-    image_min[i % C] = std::min(image_min[i % C], src.pixels[i]);
-    image_max[i % C] = std::max(image_max[i % C], src.pixels[i]);
-  }
+  if (end_row < 0 || end_row > src.height) end_row = src.height;
+  first_row = std::max(0, first_row);
+  if (first_row >= end_row) return 0;
   std::atomic<long long> limited{0};
-  tbb::parallel_for(0, src.height, [&](int y) {
+  tbb::parallel_for(first_row, end_row, [&](int y) {
     // A footprint's pixels of every channel are gathered in one pass
     // (channel-major), its 3x3 ranges found in another.
     std::vector<float> all, o;

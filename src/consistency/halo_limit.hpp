@@ -37,8 +37,20 @@ std::pair<float, float> halo_bounds(const Image& src, int x, int y, int c, float
 // or hi may be infinite.
 double mean_keeping_shift(const std::vector<float>& values, double mean, double lo, double hi);
 
-// Clamps every footprint of `out` (a consistent output of `src`) as above.
-// Returns the number of footprints and channels changed.
+// Clamps the footprints of `out` (a consistent output of `src`) as above,
+// those of input rows [first_row, end_row) (end_row < 0: to the last): each
+// footprint is read and written alone, so bands of rows give the whole
+// image's result. Returns the number of footprints and channels changed.
+class HaloLimiter {
+ public:
+  explicit HaloLimiter(const Image& src);
+  long long limit(Image& out, int first_row = 0, int end_row = -1) const;
+
+ private:
+  const Image& src_;
+  std::vector<float> image_min_, image_max_;  // per channel, for isolated dots
+};
+
 long long limit_halos(Image& out, const Image& src);
 
 }  // namespace ddt

@@ -209,21 +209,34 @@ double quantum_of(const Image& src) {
 
 }  // namespace
 
-long long render_step_edges(Image& out, const Image& src, const StepEdgeOptions& options) {
-  const int W = src.width, H = src.height, C = src.channels;
-  if (W < 5 || H < 5 || C > max_channels) return 0;
-  const FootprintPixels f = footprint_pixels(W, H, out.width, out.height);
-  const double pw = static_cast<double>(W) / out.width, ph = static_cast<double>(H) / out.height;  // output pixel size
+StepEdgeRenderer::StepEdgeRenderer(const Image& src, const StepEdgeOptions& options) : src_(src), options_(options) {
+  if (src.width < 5 || src.height < 5 || src.channels > max_channels) return;
   const double quantum = quantum_of(src);
-  double min_step = options.min_step_codes * quantum;
+  min_step_ = options.min_step_codes * quantum;
   if (quantum == 0) {
     const auto [lo, hi] = std::minmax_element(src.pixels.begin(), src.pixels.end());
-    min_step = options.min_step_share * (*hi - *lo);
+    min_step_ = options.min_step_share * (*hi - *lo);
   }
-  if (!(min_step > 0)) return 0;  // a flat image
-  const double rounding = 0.5 * quantum;
+  rounding_ = 0.5 * quantum;
+}
+
+long long render_step_edges(Image& out, const Image& src, const StepEdgeOptions& options) {
+  return StepEdgeRenderer(src, options).render(out);
+}
+
+long long StepEdgeRenderer::render(Image& out, int first_row, int end_row) const {
+  const Image& src = src_;
+  const StepEdgeOptions& options = options_;
+  const int W = src.width, H = src.height, C = src.channels;
+  const double min_step = min_step_, rounding = rounding_;
+  if (!(min_step > 0)) return 0;  // a flat image, or one too small or with too many channels
+  const FootprintPixels f = footprint_pixels(W, H, out.width, out.height);
+  const double pw = static_cast<double>(W) / out.width, ph = static_cast<double>(H) / out.height;  // output pixel size
+  // Footprints with the whole 5x5 window inside the image.
+  const int first = std::max(2, first_row), end = std::min(H - 2, end_row < 0 ? H : end_row);
+  if (first >= end) return 0;
   std::atomic<long long> drawn{0};
-  tbb::parallel_for(2, H - 2, [&](int y) {
+  tbb::parallel_for(first, end, [&](int y) {
     Window w;
     w.C = C;
     std::vector<float> o;

@@ -49,6 +49,21 @@ struct StepEdgeOptions {
   double reach_tolerance = 0.25;
 };
 
+// The footprints of input rows [first_row, end_row) (end_row < 0: to the
+// last); each is read and written alone, so bands of rows give the whole
+// image's result. The smallest step and the rounding allowance are the
+// whole input's, found once.
+class StepEdgeRenderer {
+ public:
+  explicit StepEdgeRenderer(const Image& src, const StepEdgeOptions& options = {});
+  long long render(Image& out, int first_row = 0, int end_row = -1) const;
+
+ private:
+  const Image& src_;
+  StepEdgeOptions options_;
+  double min_step_ = 0, rounding_ = 0;
+};
+
 long long render_step_edges(Image& out, const Image& src, const StepEdgeOptions& options = {});
 
 // The share of a rectangle (its extents along the edge's normal p = w |nx|

@@ -206,6 +206,8 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
     ConsistencyOptions co;
     co.model = options.model;
     co.step_edges = options.step_edges;
+    co.output_rows = options.output_rows;
+    co.output_band_rows = streamed_band_rows(out_width, C, options);
     ConsistencyStats cs;
     make_consistent(out, mesh, src, co, &cs);
     local.consistency_mesh_steps = cs.mesh_steps;
@@ -307,7 +309,8 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
   const long long region_triangles = region_rows > 0 ? region_rows * cells_row : -1;
 
   // Streamed under the point model, every band hands its rows out itself;
-  // the consistent reconstruction needs the whole output first.
+  // the consistent reconstruction holds the whole output and hands out each
+  // band of it once its last steps are done (make_consistent).
   const bool streamed = static_cast<bool>(options.output_rows);
   const bool whole_output = !streamed || band_options.model.kind != AcquisitionModel::Kind::point;
   Image out = whole_output ? Image(out_width, out_height, C) : Image();
@@ -315,17 +318,8 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
     const LawsonStats ls = run_band(src, 0, H, Band{0, H, 0, out_height}, out_width, out_height, band_options, cost, drive,
                                     region_triangles, region_rows, "", out, local);
     take_optimizer_stats(ls, local);
-    if (streamed && whole_output) {
-      const int step = streamed_band_rows(out_width, C, options);
-      const std::size_t row_floats = static_cast<std::size_t>(out_width) * C;
-      for (int first = 0; first < out_height; first += step) {
-        Image part(out_width, std::min(step, out_height - first), C);
-        std::copy_n(out.pixels.begin() + static_cast<std::ptrdiff_t>(row_floats * first), part.pixels.size(),
-                    part.pixels.begin());
-        options.output_rows(std::move(part), first);
-      }
-      out = Image();
-    }
+    // Streamed, the consistent reconstruction has handed its rows out.
+    if (streamed) out = Image();
   } else {
     // Bands of tile_rows rows with `margin` rows of overlap each side. In a
     // band, phase k of the optimizer reproduces the whole image's phase k

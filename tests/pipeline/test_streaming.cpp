@@ -68,11 +68,25 @@ TEST_CASE("upscale: streamed rows equal the whole output, point model, whole and
 
 TEST_CASE("upscale: streamed rows equal the whole output under the consistent reconstruction") {
   const Image in = textured(48, 40);
-  UpscaleOptions opt;  // box model: the whole output is made, then handed out
-  opt.output_band_rows = 25;
-  const Image whole = upscale(in, 144, 120, opt);
-  int bands = 0;
-  const Image rows = streamed(in, 144, 120, opt, bands);
-  CHECK(bands == 5);
-  CHECK(rows.pixels == whole.pixels);
+  struct Case {
+    const char* model;
+    int out_w, out_h, bands;
+  };
+  // Box at integer scales hands out a band as soon as its footprints are
+  // finished (8 input rows of 25 / 3 output rows each: 5 bands); other
+  // models and scales finish the whole output first, then hand it out in
+  // bands of 25 rows.
+  for (const Case& c : {Case{"box", 144, 120, 5}, Case{"box", 150, 125, 5}, Case{"gauss:0.5", 144, 120, 5},
+                        Case{"bicubic", 96, 80, 4}}) {
+    CAPTURE(c.model);
+    CAPTURE(c.out_w);
+    UpscaleOptions opt;
+    opt.model = parse_acquisition_model(c.model);
+    opt.output_band_rows = 25;
+    const Image whole = upscale(in, c.out_w, c.out_h, opt);
+    int bands = 0;
+    const Image rows = streamed(in, c.out_w, c.out_h, opt, bands);
+    CHECK(bands == c.bands);
+    CHECK(rows.pixels == whole.pixels);
+  }
 }
