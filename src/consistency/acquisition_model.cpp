@@ -1,7 +1,6 @@
 #include "consistency/acquisition_model.hpp"
 
 #include "util/error.hpp"
-#include "util/huge_pages.hpp"
 #include "eval/matlab_resize.hpp"
 
 #include <tbb/parallel_for.h>
@@ -166,9 +165,7 @@ void Acquisition::apply(const Image& out, int out_origin, int first, int end, st
   if (lo < hi && (lo < out_origin || hi > out_origin + out.height))
     throw Error("acquisition: the output rows do not cover the input rows");
   const std::size_t row_size = static_cast<std::size_t>(in_width_) * C;
-  // Fresh pages of a large buffer are cheap only when huge.
-  if (in.capacity() < row_size * (end - first)) assign_huge(in, row_size * (end - first), 0.0);
-  else in.assign(row_size * (end - first), 0.0);
+  in.assign(row_size * (end - first), 0.0);
   // Each input row from its output rows, one row of sums at a time (memory
   // of one input row per thread, not of an intermediate image).
   tbb::parallel_for(first, end, [&](int jy) {

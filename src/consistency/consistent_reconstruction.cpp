@@ -1,7 +1,6 @@
 #include "consistency/consistent_reconstruction.hpp"
 
 #include "util/error.hpp"
-#include "util/huge_pages.hpp"
 #include "consistency/grid_surface.hpp"
 #include "consistency/halo_limit.hpp"
 #include "consistency/step_edges.hpp"
@@ -76,8 +75,7 @@ void make_consistent(Image& out, const Mesh2& mesh, const Image& src, const Cons
     surface.scale_x = static_cast<double>(out.width) / W;
     surface.scale_y = static_cast<double>(out.height) / H;
     Image step(out.width, out.height, C);
-    std::vector<float> values;
-    assign_huge(values, residual.size(), 0.0f);
+    std::vector<float> values(residual.size());
     double norm = norm2(residual);
     for (int k = 0; k < options.mesh_steps; ++k) {
       std::transform(residual.begin(), residual.end(), values.begin(), [](double v) { return static_cast<float>(v); });

@@ -1,7 +1,6 @@
 #include "consistency/grid_surface.hpp"
 
 #include "util/error.hpp"
-#include "util/huge_pages.hpp"
 
 #include <Eigen/Sparse>
 #include <Eigen/SparseLU>
@@ -71,8 +70,7 @@ void GridSurface::acquire(const std::vector<double>& v, std::vector<double>& y, 
   const std::size_t row_size = static_cast<std::size_t>(W) * C;
   if (v.size() != row_size * H) throw Error("grid surface: values of another grid");
   // Along x, each row; then along y, rows combined whole.
-  std::vector<double> along_x;
-  assign_huge(along_x, v.size(), 0.0);
+  std::vector<double> along_x(v.size(), 0.0);
   tbb::parallel_for(0, H, [&](int iy) {
     const double* in = &v[iy * row_size];
     double* out = &along_x[iy * row_size];
@@ -80,8 +78,7 @@ void GridSurface::acquire(const std::vector<double>& v, std::vector<double>& y, 
       for (const auto& [ix, w] : x_->rows[jx])
         for (int c = 0; c < C; ++c) out[jx * C + c] += w * in[ix * C + c];
   });
-  if (y.capacity() < v.size()) assign_huge(y, v.size(), 0.0);
-  else y.assign(v.size(), 0.0);
+  y.assign(v.size(), 0.0);
   tbb::parallel_for(0, H, [&](int jy) {
     double* out = &y[jy * row_size];
     for (const auto& [iy, w] : y_->rows[jy]) {
@@ -96,7 +93,6 @@ void GridSurface::solve(const std::vector<double>& r, std::vector<double>& v, in
   const int W = width_, H = height_;
   const std::size_t row_size = static_cast<std::size_t>(W) * C;
   if (r.size() != row_size * H) throw Error("grid surface: values of another grid");
-  if (v.capacity() < r.size()) assign_huge(v, r.size(), 0.0);
   v.assign(r.begin(), r.end());
   // G = By (x) Bx, so v = By^-1 R Bx^-T: each row solved along x (its C
   // channels are the right-hand sides) ...

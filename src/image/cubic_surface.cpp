@@ -1,7 +1,6 @@
 #include "image/cubic_surface.hpp"
 
 #include "util/error.hpp"
-#include "util/huge_pages.hpp"
 #include "pipeline/upscale.hpp"
 
 #include <algorithm>
@@ -38,8 +37,7 @@ double limited_slope(const double z[5], const bool has[5], SlopeLimiter limiter)
 
 std::vector<float> grid_gradients(const Image& src, SlopeLimiter limiter) {
   const int W = src.width, H = src.height, C = src.channels;
-  std::vector<float> g;
-  assign_huge(g, src.pixel_count() * C * 2, 0.0f);
+  std::vector<float> g(src.pixel_count() * C * 2, 0.0f);
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x)
       for (int c = 0; c < C; ++c) {

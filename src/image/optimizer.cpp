@@ -5,7 +5,6 @@
 #include "core/predicates.hpp"
 #include "core/schedule.hpp"
 #include "util/error.hpp"
-#include "util/huge_pages.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -650,8 +649,7 @@ LawsonStats optimize_lawson(Mesh2& mesh, const std::vector<float>& values, int K
 
   if (fast && is_sederberg(cost)) {
     // The edge-term cache; its sums are total_cost's, term for term.
-    std::vector<double> terms;
-    assign_huge(terms, mesh.half_edge_count(), 0.0);
+    std::vector<double> terms(mesh.half_edge_count(), 0.0);
     auto go = [&](auto evaluator) {
       evaluator.cost = &terms;
       stats.cost_before = chunked_sum(mesh.half_edge_count(), [&](index_t e) {

@@ -1,7 +1,6 @@
 #include "image/triangulation.hpp"
 
 #include "core/check_mesh.hpp"
-#include "util/huge_pages.hpp"
 
 #include <CGAL/Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -260,8 +259,8 @@ Mesh2 grid_delaunay(const std::vector<Point2>& points, int W, int H) {
   mesh.points = points;
   const int cells_x = W - 1, cells_y = H - 1;
   const std::size_t row_tris = 2 * static_cast<std::size_t>(cells_x);  // triangles per row of cells
-  assign_huge(mesh.tri, 3 * row_tris * cells_y, index_t(0));
-  assign_huge(mesh.opp, mesh.tri.size(), index_t(0));
+  mesh.tri.assign(3 * row_tris * cells_y, index_t(0));
+  mesh.opp.assign(mesh.tri.size(), index_t(0));
   const int blocks_x = (cells_x + block_cells - 1) / block_cells;
   const int blocks_y = (cells_y + block_cells - 1) / block_cells;
   const std::vector<index_t> full_order = hilbert_order(block_cells + 1, block_cells + 1);

@@ -8,8 +8,6 @@
 // An output pixel X of an image enlarged by sx samples the input at
 // (X + 0.5) / sx.
 
-#include "util/huge_pages.hpp"
-
 #include <cstddef>
 #include <vector>
 
@@ -22,9 +20,8 @@ struct Image {
   std::vector<float> pixels;  // width * height * channels, interleaved
 
   Image() = default;
-  Image(int w, int h, int c, float fill = 0.0f) : width(w), height(h), channels(c) {
-    assign_huge(pixels, static_cast<std::size_t>(w) * h * c, fill);
-  }
+  Image(int w, int h, int c, float fill = 0.0f)
+      : width(w), height(h), channels(c), pixels(static_cast<std::size_t>(w) * h * c, fill) {}
 
   std::size_t pixel_count() const { return static_cast<std::size_t>(width) * height; }
   bool empty() const { return pixels.empty(); }
