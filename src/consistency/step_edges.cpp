@@ -130,16 +130,19 @@ EdgeFit fit_edge(const Window& w, int main, double lo, double hi, double reject_
     // Jacobian by forward differences from the residuals at x: the misfit
     // is piecewise smooth, and an error of O(h) in J only slows the steps
     // (each is kept only where it lowers the misfit).
-    std::array<Residuals, 2> J{};
+    // (J and rp are left uninitialized: only their first n entries are
+    // written and read, and zeroing them all cost more than the fit.)
+    std::array<Residuals, 2> J;
     constexpr double h = 1e-6;
     bool ok = true;
     for (int j = 0; j < 2 && ok; ++j) {
       std::array<double, 2> xp = x;
       xp[j] += h;
-      Residuals rp{};
+      Residuals rp;
       EdgeFit scratch;
       ok = std::isfinite(evaluate(w, xp[0], xp[1], scratch, rp));
-      for (int i = 0; i < n; ++i) J[j][i] = (rp[i] - r[i]) / h;
+      if (ok)
+        for (int i = 0; i < n; ++i) J[j][i] = (rp[i] - r[i]) / h;
     }
     if (!ok) break;
     double a00 = 0, a01 = 0, a11 = 0, g0 = 0, g1 = 0;
@@ -245,7 +248,7 @@ long long StepEdgeRenderer::render(Image& out, int first_row, int end_row) const
       // pixel at all: strictly between the levels around it.
       int main = -1;
       double main_step = min_step, lo_main = 0, hi_main = 0;
-      std::array<double, max_channels> lo{}, hi{};
+      std::array<double, max_channels> lo, hi;  // the first C entries, set below
       for (int k = 0; k < window; ++k) {
         const int px = x + k % 3 - 1, py = y + k / 3 - 1;
         w.cx[k] = px + 0.5;
