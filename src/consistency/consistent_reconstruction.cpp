@@ -130,7 +130,7 @@ void make_consistent(Image& out, const Mesh2& mesh, const Image& src, const Cons
       options.model.kind == AcquisitionModel::Kind::box && out.width % W == 0 && out.height % H == 0;
   const int band_out_rows = std::max(1, options.output_band_rows);
   if (kept_exactly && options.output_rows) {
-    const int band = std::max(1, band_out_rows * H / out.height);
+    const int band = static_cast<int>(std::max(1LL, static_cast<long long>(band_out_rows) * H / out.height));
     for (int first = 0; first < H; first += band) {
       const int end = std::min(H, first + band);
       finish_rows(first, end);
