@@ -90,3 +90,19 @@ TEST_CASE("upscale: streamed rows equal the whole output under the consistent re
     CHECK(rows.pixels == whole.pixels);
   }
 }
+
+TEST_CASE("upscale: streamed bands of the consistent reconstruction hold its straight edges and halo limits") {
+  // Flat regions with straight borders: footprints drawn as edges and
+  // halos limited in every band of the box model at x4.
+  const Image in = render_scene(find_scene("colour_regions"), 48, 40);
+  UpscaleOptions opt;
+  opt.output_band_rows = 13;
+  const Image whole = upscale(in, 192, 160, opt);
+  int bands = 0;
+  const Image rows = streamed(in, 192, 160, opt, bands);
+  CHECK(bands == 14);  // 3 input rows (13 * 40 / 160) a band
+  CHECK(rows.pixels == whole.pixels);
+  UpscaleOptions without = opt;
+  without.step_edges = false;
+  CHECK(upscale(in, 192, 160, without).pixels != whole.pixels);
+}
