@@ -83,7 +83,7 @@ bool build_plan(const SimplexMesh<D>& mesh, const std::array<index_t, max_flip_c
     std::sort(rest.begin(), rest.end());
     const unsigned missing = ((1u << plan.b_count) - 1) & ~present;
     int l = 0;
-    while (l < link_count && links[l] != rest) ++l;
+    while (l < link_count && !same_ids(links[l], rest)) ++l;
     if (l == link_count) links[link_count++] = rest, missing_b[l] = 0;
     if (missing_b[l] & missing) return false;  // the same cell twice: not a mesh
     missing_b[l] |= missing;
@@ -270,13 +270,13 @@ void apply_flip(SimplexMesh<D>& mesh, const FlipPlan<D>& plan, index_t* new_slot
     index_t target = no_facet;
     bool inner = false;
     for (int other = 0; other < n_keys && !inner; ++other)
-      if (other / (D + 1) != me / (D + 1) && keys[other] == keys[me]) {
+      if (other / (D + 1) != me / (D + 1) && same_ids(keys[other], keys[me])) {
         target = (D + 1) * slots[other / (D + 1)] + other % (D + 1);
         inner = true;
       }
     if (!inner)
       for (int o = 0; o < outer_count; ++o)
-        if (outer[o].key == keys[me]) {
+        if (same_ids(outer[o].key, keys[me])) {
           target = outer[o].neighbour;
           break;
         }

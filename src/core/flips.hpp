@@ -79,10 +79,12 @@ struct FlipPlan {
   std::array<index_t, D + 1> a{};  // conv A, a face of every removed cell
   std::array<index_t, D + 1> b{};  // conv B, a face of every inserted cell
   int link_count = 0;              // simplices in the link; 1 (the empty one) when not degenerate
+  // Only the first removed_count / inserted_count entries are set: the
+  // arrays are left unfilled because the optimizer builds a plan per test.
   int removed_count = 0;
-  std::array<index_t, max_flip_cells<D>> removed{};
+  std::array<index_t, max_flip_cells<D>> removed;
   int inserted_count = 0;
-  std::array<CellVertices<D>, max_flip_cells<D>> inserted{};
+  std::array<CellVertices<D>, max_flip_cells<D>> inserted;
 
   int circuit_dimension() const { return a_count + b_count - 2; }
   bool degenerate() const { return circuit_dimension() < D; }

@@ -218,7 +218,7 @@ class Optimizer {
         for (int i = 0, n = 0; i <= D; ++i)
           if (item_masks<D>[m] & (1u << i)) key[n++] = mesh_.vertex(c, i);
         std::sort(key.begin(), key.end());
-        if (std::find(seen.begin(), seen.begin() + n_seen, key) != seen.begin() + n_seen) continue;
+        if (std::any_of(seen.begin(), seen.begin() + n_seen, [&](const Key& k) { return same_ids(k, key); })) continue;
         seen[n_seen++] = key;
         touch(P * c + m);
       }

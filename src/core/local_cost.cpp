@@ -190,13 +190,13 @@ LocalCosts flip_costs(const SimplexMesh<D>& mesh, const float* values, int K, co
     const int k = me / (D + 1);
     bool inner = false;
     for (int other = 0; other < n_keys && !inner; ++other)
-      if (other / (D + 1) != k && keys[other] == keys[me]) {
+      if (other / (D + 1) != k && same_ids(keys[other], keys[me])) {
         inner = true;
         if (other / (D + 1) > k) out.after += facet_term<D>(ctx, new_f[k], new_f[other / (D + 1)], keys[me], &out.noise_scale);
       }
     if (inner) continue;
     for (int o = 0; o < outer_count; ++o)
-      if (outer[o].key == keys[me]) {
+      if (same_ids(outer[o].key, keys[me])) {
         out.after += facet_term<D>(ctx, new_f[k], outer[o].field, keys[me], &out.noise_scale);
         break;
       }

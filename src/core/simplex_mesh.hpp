@@ -94,6 +94,15 @@ struct SimplexMesh {
   }
 };
 
+// Element-wise equality of two id arrays, written out so the flip loops
+// compare a few integers inline instead of calling memcmp.
+template <std::size_t N>
+constexpr bool same_ids(const std::array<index_t, N>& x, const std::array<index_t, N>& y) {
+  for (std::size_t i = 0; i < N; ++i)
+    if (x[i] != y[i]) return false;
+  return true;
+}
+
 // The sorted vertex ids of facet f (slot (D+1)c + i): the key two glued
 // facets share.
 template <int D>
