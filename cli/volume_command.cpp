@@ -18,9 +18,11 @@
 #include "util/timing.hpp"
 
 #include <CLI/CLI.hpp>
+#include <tbb/global_control.h>
 
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -28,6 +30,8 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
+#include <thread>
 
 namespace fs = std::filesystem;
 
@@ -82,6 +86,7 @@ int run_volume_upscale(int argc, char** argv) {
   double scale = 0, tolerance = 1e-9, iso = NAN;
   std::vector<std::string> compare;
   long long max_voxels = ddt::default_max_voxels;
+  int threads = 0;
   bool verbose = false, quiet = false;
   ddt::VolumeReadOptions read_options;
   CLI::App app{"ddtscale (volumes): enlarge a NRRD volume (scalar, RGB or vector) by data-dependent tetrahedrization.\n"
@@ -124,6 +129,10 @@ int run_volume_upscale(int argc, char** argv) {
                  "the physical memory / 1024)")
       ->check(whole_number(1))
       ->capture_default_str();
+  app.add_option("--threads", threads,
+                 "threads to use (default: all cores; more than the cores are not used); the output is the same "
+                 "for any number")
+      ->check(whole_number(1));
   app.add_flag("-v,--verbose", verbose,
                "report stages, flips of each kind per iteration, cost, times and peak memory");
   app.add_flag("-q,--quiet", quiet, "print nothing but errors");
@@ -171,6 +180,11 @@ int run_volume_upscale(int argc, char** argv) {
     auto log = [&](const std::string& line) {
       if (verbose) std::cerr << line << "\n";
     };
+    std::unique_ptr<tbb::global_control> thread_limit;
+    const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    if (threads > 0)
+      thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                           std::min(threads, cores));
     // The whole job is sized from the input's header, before its data is
     // read: output size and memory.
     int out[3] = {0, 0, 0};

@@ -97,6 +97,12 @@ run_fail "scale zero" "$work/s.nrrd" "$work/o.nrrd" --scale 0
 run_fail "scale negative" "$work/s.nrrd" "$work/o.nrrd" --scale -3
 run_fail "scale not a number" "$work/s.nrrd" "$work/o.nrrd" --scale abc
 run_fail "no scale" "$work/s.nrrd" "$work/o.nrrd"
+# In slabs (above 47^3 voxels) the optimizer runs in parallel: the same bits for any --threads.
+run_ok "volume-field 48" volume-field hydrogen "$work/h48.nrrd" --size 48 --supersample 1
+run_ok "one thread" "$work/h48.nrrd" "$work/h48_1.nrrd" --scale 2 --threads 1
+run_ok "two threads" "$work/h48.nrrd" "$work/h48_2.nrrd" --scale 2 --threads 2
+cmp -s "$work/h48_1.nrrd" "$work/h48_2.nrrd" && ok || bad "--threads 1 and 2 gave different volumes"
+run_fail "zero threads" "$work/s.nrrd" "$work/o.nrrd" --scale 2 --threads 0
 run_fail "bad size" "$work/s.nrrd" "$work/o.nrrd" --size 4x4
 run_fail "too many voxels" "$work/s.nrrd" "$work/o.nrrd" --scale 100 --max-voxels 1000
 run_fail "output is input" "$work/s.nrrd" "$work/s.nrrd" --scale 2
