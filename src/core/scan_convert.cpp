@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstdint>
 #include <cmath>
 #include <map>
 #include <string>
@@ -25,8 +26,8 @@ bool exact_product(double x, double y, double product) { return std::fma(x, y, -
 
 // det of an N x N matrix by cofactor expansion along row 0, plain double:
 // exact when the entries are small integers (lattice points' differences).
-template <int N>
-double cofactor_det(const std::array<std::array<double, N>, N>& m) {
+template <int N, class T = double>
+T cofactor_det(const std::array<std::array<T, N>, N>& m) {
   if constexpr (N == 0) {
     return 1;
   } else if constexpr (N == 1) {
@@ -34,13 +35,13 @@ double cofactor_det(const std::array<std::array<double, N>, N>& m) {
   } else if constexpr (N == 2) {
     return m[0][0] * m[1][1] - m[0][1] * m[1][0];
   } else {
-    double det = 0;
+    T det = 0;
     for (int j = 0; j < N; ++j) {
-      std::array<std::array<double, N - 1>, N - 1> minor;
+      std::array<std::array<T, N - 1>, N - 1> minor;
       for (int r = 1; r < N; ++r)
         for (int c = 0, n = 0; c < N; ++c)
           if (c != j) minor[r - 1][n++] = m[r][c];
-      const double term = m[0][j] * cofactor_det<N - 1>(minor);
+      const T term = m[0][j] * cofactor_det<N - 1, T>(minor);
       det = j % 2 == 0 ? det + term : det - term;
     }
     return det;
@@ -49,15 +50,15 @@ double cofactor_det(const std::array<std::array<double, N>, N>& m) {
 
 // The generalized cross product n of D - 1 vectors: n . w = det[v_1; ...;
 // v_(D-1); w] for every w (D = 3: v_1 x v_2).
-template <int D>
-Vec<D> normal_of(const std::array<Vec<D>, D - 1>& v) {
-  Vec<D> n;
+template <int D, class T = double>
+std::array<T, D> normal_of(const std::array<std::array<T, D>, D - 1>& v) {
+  std::array<T, D> n;
   for (int k = 0; k < D; ++k) {
-    std::array<std::array<double, D - 1>, D - 1> minor;
+    std::array<std::array<T, D - 1>, D - 1> minor;
     for (int r = 0; r < D - 1; ++r)
       for (int c = 0, m = 0; c < D; ++c)
         if (c != k) minor[r][m++] = v[r][c];
-    const double d = cofactor_det<D - 1>(minor);
+    const T d = cofactor_det<D - 1, T>(minor);
     n[k] = (D - 1 + k) % 2 == 0 ? d : -d;
   }
   return n;
@@ -73,6 +74,7 @@ struct CellSetup {
   std::array<Vec<D>, D + 1> unit;
   std::array<double, D + 1> off;
   std::array<double, D + 1> den;  // raw[i] . (p_i - p_0), i >= 1
+  std::array<double, D + 1> inv_axis0;  // 1 / unit[i][0], 0 when the facet is parallel to the rows
   Vec<D> lo, hi;                  // bounding box
 };
 
@@ -81,7 +83,7 @@ struct CellSetup {
 // increasing j (j != i, b), det[edges; p_i - p_b] has the sign
 // (-1)^(D - i) for i >= 1 and (-1)^D for i = 0 (a cyclic shift).
 template <int D>
-void setup_cell(CellSetup<D>& s) {
+void setup_cell(CellSetup<D>& s, bool distances = true) {
   for (int i = 0; i <= D; ++i) {
     const int base = i == 0 ? 1 : 0;
     std::array<Vec<D>, D - 1> edges;
@@ -96,6 +98,11 @@ void setup_cell(CellSetup<D>& s) {
     if (negative)
       for (double& x : raw) x = -x;
     s.raw[i] = raw;
+    if (i >= 1) {
+      s.den[i] = 0;
+      for (int k = 0; k < D; ++k) s.den[i] += raw[k] * (s.p[i][k] - s.p[0][k]);
+    }
+    if (!distances) continue;  // the integer frame (below) needs none
     double len = 0;
     for (double x : raw) len += x * x;
     len = std::sqrt(len);
@@ -104,11 +111,91 @@ void setup_cell(CellSetup<D>& s) {
       s.unit[i][k] = raw[k] / len;
       s.off[i] -= s.unit[i][k] * s.p[base][k];
     }
-    if (i >= 1) {
-      s.den[i] = 0;
-      for (int k = 0; k < D; ++k) s.den[i] += raw[k] * (s.p[i][k] - s.p[0][k]);
-    }
+    s.inv_axis0[i] = std::abs(s.unit[i][0]) < 1e-12 ? 0.0 : 1.0 / s.unit[i][0];
   }
+}
+
+// The integer frame, the exact fast path for grids (volumes at integer and
+// half-integer scales). Precondition `integer_frame`: there is an f <= 4
+// with every point coordinate times 2^f an integer, and 2 * scale[k] is an
+// integer. Then with M_k = 2^(f+1) * scale[k] every vertex coordinate times
+// M_k and every sample coordinate times M_k (2^f (2 (first + X) + 1)) is an
+// integer, and a facet's side at a sample is an integer dot product: the
+// fill rule's sign, tie-break included, without rounding. A cell whose
+// scaled extent reaches 2^cell_bits takes the floating-point path (the
+// products must stay in 64 bits).
+template <int D>
+struct IntegerFrame {
+  bool valid = false;
+  std::array<std::int64_t, D> multiplier{};   // M_k
+  std::array<std::int64_t, D> sample_base{};  // scaled coordinate of the window's sample 0
+  std::array<std::int64_t, D> sample_step{};  // between consecutive samples: 2^(f+1)
+  // |edge| < 2^cell_bits bounds the normals by (D-1)! 2^((D-1) cell_bits)
+  // and the sides by D times that times 2^(cell_bits + 1).
+  static constexpr int cell_bits = D <= 2 ? 28 : D == 3 ? 18 : 13;
+};
+
+template <int D>
+IntegerFrame<D> integer_frame(const std::vector<Vec<D>>& points, const ScanGrid<D>& grid) {
+  IntegerFrame<D> frame;
+  int f = 0;
+  for (const Vec<D>& p : points)
+    for (double c : p) {
+      if (!(std::abs(c) < 0x1p40)) return frame;
+      while (std::ldexp(c, f) != std::floor(std::ldexp(c, f)))
+        if (++f > 4) return frame;
+    }
+  for (int k = 0; k < D; ++k) {
+    const double twice = 2 * grid.scale[k];
+    if (twice != std::floor(twice) || twice > 4096 || std::abs(grid.first[k]) > (1 << 28)) return frame;
+    frame.multiplier[k] = static_cast<std::int64_t>(twice) << f;
+    frame.sample_step[k] = std::int64_t(2) << f;
+    frame.sample_base[k] = (2 * std::int64_t(grid.first[k]) + 1) << f;
+  }
+  frame.valid = true;
+  return frame;
+}
+
+// One cell in the integer frame: scaled vertices, and per facet i its
+// inward normal and the fill rule's tie-break (the sign of the normal's
+// first non-zero component: the side of the perturbed sample).
+template <int D>
+struct IntegerCell {
+  std::array<std::array<std::int64_t, D>, D + 1> v;
+  std::array<std::array<std::int64_t, D>, D + 1> normal;
+  std::array<int, D + 1> tie;
+  std::array<double, D + 1> inv_row_slope;  // 1 / (normal[i][0] * sample_step[0]), 0 when parallel to rows
+};
+
+// False when the cell is too large for 64-bit sides (then the float path).
+template <int D>
+bool integer_cell(const IntegerFrame<D>& frame, const CellSetup<D>& s, IntegerCell<D>& cell) {
+  constexpr std::int64_t limit = std::int64_t(1) << IntegerFrame<D>::cell_bits;
+  for (int i = 0; i <= D; ++i)
+    for (int k = 0; k < D; ++k) cell.v[i][k] = static_cast<std::int64_t>(s.p[i][k] * double(frame.multiplier[k]));
+  for (int i = 1; i <= D; ++i)
+    for (int k = 0; k < D; ++k)
+      if (std::abs(cell.v[i][k] - cell.v[0][k]) >= limit) return false;
+  for (int i = 0; i <= D; ++i) {
+    const int base = i == 0 ? 1 : 0;
+    std::array<std::array<std::int64_t, D>, D - 1> edges;
+    int n = 0;
+    for (int j = 0; j <= D; ++j) {
+      if (j == i || j == base) continue;
+      for (int k = 0; k < D; ++k) edges[n][k] = cell.v[j][k] - cell.v[base][k];
+      ++n;
+    }
+    std::array<std::int64_t, D> normal = normal_of<D, std::int64_t>(edges);
+    if (((i == 0 ? D : D - i) % 2) != 0)  // setup_cell's orientation rule
+      for (std::int64_t& x : normal) x = -x;
+    cell.normal[i] = normal;
+    cell.tie[i] = 0;
+    for (int k = 0; k < D && cell.tie[i] == 0; ++k)
+      if (normal[k] != 0) cell.tie[i] = normal[k] > 0 ? 1 : -1;
+    const std::int64_t slope = normal[0] * frame.sample_step[0];
+    cell.inv_row_slope[i] = slope == 0 ? 0.0 : 1.0 / double(slope);
+  }
+  return true;
 }
 
 // The sign of n . (q - a) when every step is exact (then +1, -1 or a true
@@ -184,13 +271,28 @@ struct Scan {
   int K;
   float* out;
   unsigned char* hits;
+  const IntegerFrame<D>& frame;
 
   // Indices of the window's samples along `axis` whose coordinate may lie
   // in [lo, hi].
   void index_range(int axis, double lo, double hi, int& first, int& last) const {
     const double scale = grid.scale[axis];
-    first = std::max(0, static_cast<int>(std::ceil((lo - tol) * scale - 0.5)) - grid.first[axis]);
-    last = std::min(grid.size[axis] - 1, static_cast<int>(std::floor((hi + tol) * scale - 0.5)) - grid.first[axis]);
+    first = std::max(0, ceil_int((lo - tol) * scale - 0.5) - grid.first[axis]);
+    last = std::min(grid.size[axis] - 1, floor_int((hi + tol) * scale - 0.5) - grid.first[axis]);
+  }
+
+  // std::floor and std::ceil are library calls without SSE4.1, and this
+  // runs for every row of every cell. x is a sample index (clamped: the
+  // ranges are clamped to the window after).
+  static int floor_int(double x) {
+    x = std::clamp(x, -1e9, 1e9);
+    const int i = static_cast<int>(x);
+    return i - (x < i);
+  }
+  static int ceil_int(double x) {
+    x = std::clamp(x, -1e9, 1e9);
+    const int i = static_cast<int>(x);
+    return i + (x > i);
   }
 };
 
@@ -255,12 +357,12 @@ void scan_row(const Scan<D>& scan, const CellSetup<D>& s, const double* z0, cons
     double rest = s.off[i];
     for (int k = 1; k < D; ++k) rest += s.unit[i][k] * q[k];
     const double nx = s.unit[i][0];
-    if (std::abs(nx) < 1e-12) {
+    if (s.inv_axis0[i] == 0) {
       if (rest < -scan.tol) return;
     } else if (nx > 0) {
-      x_lo = std::max(x_lo, -rest / nx);
+      x_lo = std::max(x_lo, -rest * s.inv_axis0[i]);
     } else {
-      x_hi = std::min(x_hi, -rest / nx);
+      x_hi = std::min(x_hi, -rest * s.inv_axis0[i]);
     }
   }
   if (x_lo > x_hi + 2 * scan.tol) return;
@@ -284,12 +386,55 @@ void scan_row(const Scan<D>& scan, const CellSetup<D>& s, const double* z0, cons
     interpolate_row<D, 0>(scan, s, z0, dz, q, row_base, X0, X1);
 }
 
+// scan_row in the integer frame: the side of facet i at sample xb0 + t is
+// the integer A t + B, so each facet bounds t exactly (an estimate by one
+// multiplication, then corrected by exact tests), ties by the fill rule.
+// S: the scaled coordinates of the row (axes >= 1).
+template <int D>
+void scan_row_exact(const Scan<D>& scan, const CellSetup<D>& s, const IntegerCell<D>& cell, const double* z0,
+                    const double* dz, const Vec<D>& q, const std::array<std::int64_t, D>& S, std::size_t row_base,
+                    int xb0, int xb1) {
+  const std::int64_t step = scan.frame.sample_step[0];
+  const std::int64_t s0 = scan.frame.sample_base[0] + std::int64_t(xb0) * step;
+  const std::int64_t W = xb1 - xb0;
+  std::int64_t t_lo = 0, t_hi = W;
+  for (int i = 0; i <= D && t_lo <= t_hi; ++i) {
+    const int base = i == 0 ? 1 : 0;
+    const std::array<std::int64_t, D>& n = cell.normal[i];
+    std::int64_t B = n[0] * (s0 - cell.v[base][0]);
+    for (int k = 1; k < D; ++k) B += n[k] * (S[k] - cell.v[base][k]);
+    const std::int64_t A = n[0] * step;
+    if (A == 0) {  // parallel to the row: all or nothing
+      if (B > 0 || (B == 0 && cell.tie[i] > 0)) continue;
+      return;
+    }
+    const double estimate = std::clamp(-double(B) * cell.inv_row_slope[i], -2.0, double(W) + 2.0);
+    if (A > 0) {  // the tie-break is +1 here: A t + B >= 0
+      std::int64_t t = Scan<D>::ceil_int(estimate);
+      while (t > t_lo && A * (t - 1) + B >= 0) --t;
+      while (t <= t_hi && A * t + B < 0) ++t;
+      t_lo = std::max(t_lo, t);
+    } else {  // and -1 here: A t + B > 0
+      std::int64_t t = Scan<D>::floor_int(estimate);
+      while (t < t_hi && A * (t + 1) + B > 0) ++t;
+      while (t >= t_lo && A * t + B <= 0) --t;
+      t_hi = std::min(t_hi, t);
+    }
+  }
+  if (t_lo > t_hi) return;
+  const int X0 = xb0 + static_cast<int>(t_lo), X1 = xb0 + static_cast<int>(t_hi);
+  if (scan.K == 1)
+    interpolate_row<D, 1>(scan, s, z0, dz, q, row_base, X0, X1);
+  else
+    interpolate_row<D, 0>(scan, s, z0, dz, q, row_base, X0, X1);
+}
+
 // The samples along axis L (>= 1) of the section `sec` (the vertices for
 // L = D - 1), each one's row or sub-section in turn.
 template <int D, int L>
-void scan_level(const Scan<D>& scan, const CellSetup<D>& s, const double* z0, const double* dz, const Vec<D>* sec,
-                int n, Vec<D> q, std::size_t base, const std::array<int, D>& box_first,
-                const std::array<int, D>& box_last) {
+void scan_level(const Scan<D>& scan, const CellSetup<D>& s, const IntegerCell<D>* cell, const double* z0,
+                const double* dz, const Vec<D>* sec, int n, Vec<D> q, std::array<std::int64_t, D> S, std::size_t base,
+                const std::array<int, D>& box_first, const std::array<int, D>& box_last) {
   double lo = INFINITY, hi = -INFINITY;
   for (int i = 0; i < n; ++i) lo = std::min(lo, sec[i][L]), hi = std::max(hi, sec[i][L]);
   int I0 = box_first[L], I1 = box_last[L];
@@ -300,13 +445,17 @@ void scan_level(const Scan<D>& scan, const CellSetup<D>& s, const double* z0, co
   }
   for (int I = I0; I <= I1; ++I) {
     q[L] = scan.coord[L][I];
+    S[L] = scan.frame.sample_base[L] + std::int64_t(I) * scan.frame.sample_step[L];
     const std::size_t next = base + I * scan.stride[L];
     if constexpr (L == 1) {
-      scan_row<D>(scan, s, z0, dz, q, next, box_first[0], box_last[0]);
+      if (cell)
+        scan_row_exact<D>(scan, s, *cell, z0, dz, q, S, next, box_first[0], box_last[0]);
+      else
+        scan_row<D>(scan, s, z0, dz, q, next, box_first[0], box_last[0]);
     } else {
       Section<D> cross;
       cut<D>(sec, n, L, q[L], cross);
-      scan_level<D, L - 1>(scan, s, z0, dz, cross.p.data(), cross.n, q, next, box_first, box_last);
+      scan_level<D, L - 1>(scan, s, cell, z0, dz, cross.p.data(), cross.n, q, S, next, box_first, box_last);
     }
   }
 }
@@ -413,8 +562,9 @@ std::vector<float> scan_convert(const SimplexMesh<D>& mesh, const std::vector<fl
   const std::size_t count = grid.count();
   std::vector<float> out(count * K, 0.0f);
   std::vector<unsigned char> hits(count, 0);
+  const IntegerFrame<D> frame = integer_frame<D>(mesh.points, grid);
   const Scan<D> scan{grid, coord, stride, 1e-9 * (extent + magnitude), lattice_exact<D>(mesh.points), K,
-                     out.data(), hits.data()};
+                     out.data(), hits.data(), frame};
 
   if (count > 0)
     tbb::parallel_for(tbb::blocked_range<index_t>(0, mesh.slot_count(), 256), [&](const tbb::blocked_range<index_t>& r) {
@@ -434,17 +584,23 @@ std::vector<float> scan_convert(const SimplexMesh<D>& mesh, const std::vector<fl
           empty = empty || first[k] > last[k];
         }
         if (empty) continue;
-        setup_cell<D>(s);
+        IntegerCell<D> exact_cell;
+        const IntegerCell<D>* cell = frame.valid && integer_cell<D>(frame, s, exact_cell) ? &exact_cell : nullptr;
+        setup_cell<D>(s, cell == nullptr);
         for (int ch = 0; ch < K; ++ch) {
           z0[ch] = values[static_cast<std::size_t>(mesh.vertex(c, 0)) * K + ch];
           for (int i = 1; i <= D; ++i)
             dz[(i - 1) * K + ch] = double(values[static_cast<std::size_t>(mesh.vertex(c, i)) * K + ch]) - z0[ch];
         }
         Vec<D> q{};
-        if constexpr (D == 1)
-          scan_row<D>(scan, s, z0.data(), dz.data(), q, 0, first[0], last[0]);
-        else
-          scan_level<D, D - 1>(scan, s, z0.data(), dz.data(), s.p.data(), D + 1, q, 0, first, last);
+        if constexpr (D == 1) {
+          if (cell)
+            scan_row_exact<D>(scan, s, *cell, z0.data(), dz.data(), q, {}, 0, first[0], last[0]);
+          else
+            scan_row<D>(scan, s, z0.data(), dz.data(), q, 0, first[0], last[0]);
+        } else {
+          scan_level<D, D - 1>(scan, s, cell, z0.data(), dz.data(), s.p.data(), D + 1, q, {}, 0, first, last);
+        }
       }
     });
 

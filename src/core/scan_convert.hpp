@@ -13,10 +13,13 @@
 // exactly on a facet belongs to the simplex that contains it moved by an
 // infinitesimal (e, e^2, ..., e^D) (predicates.hpp's perturbed_orient, the
 // one symbolic tie-break), so two simplices sharing a facet never both own
-// a point on it. The sign of a facet's side is taken in floating point when
-// it clears its rounding error by far; else exactly, by plain arithmetic
-// when the points satisfy lattice_exact and no step rounds (grids at
-// power-of-two scales), else by CGAL's exact predicates.
+// a point on it. On grids at integer and half-integer scales (points on a
+// 2^-f lattice, 2 * scale integral: the "integer frame" of scan_convert.cpp)
+// every side is an integer dot product and each row's samples are bounded
+// exactly, tie-break included. Elsewhere the sign of a facet's side is
+// taken in floating point when it clears its rounding error by far; else
+// exactly, by plain arithmetic when the points satisfy lattice_exact and no
+// step rounds, else by CGAL's exact predicates.
 // Interpolation uses barycentric weights whose numerators and denominators
 // are cofactors of the edge vectors: on lattice points (voxel centres) they
 // are exact, so the weights are exactly 1 and 0 at the vertices and input
