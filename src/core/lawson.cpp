@@ -171,7 +171,7 @@ class Optimizer {
     std::array<index_t, max_flip_cells<D>> slots;
     apply_flip<D>(mesh_, plan, slots.data(), scope ? &run.pool : nullptr);
     flips.add(plan.removed_count, plan.inserted_count);
-    touch_around(slots.data(), plan.inserted_count, touch);
+    touch_around(slots.data(), plan, touch);
     return gains[best];
   }
 
@@ -187,9 +187,14 @@ class Optimizer {
   }
 
   // The items of the new cells, and for facet costs of their neighbours;
-  // a facet from its smaller slot, a lower simplex once per flip.
+  // a facet from its smaller slot, a lower simplex once per flip. Not the
+  // simplices that contain conv B: every cell around them is new, and each
+  // flip removing one restores the old cells (a raise by the gain just
+  // taken) or gives the other plan the flip was chosen against, so they
+  // are locally optimal now; a later flip that changes that lists them.
   template <class Touch>
-  void touch_around(const index_t* slots, int count, Touch touch) const {
+  void touch_around(const index_t* slots, const FlipPlan<D>& plan, Touch touch) const {
+    const int count = plan.inserted_count;
     constexpr int cap = max_flip_cells<D> * (D + 2);
     std::array<index_t, cap> cells;
     int n_cells = 0;
@@ -202,17 +207,28 @@ class Optimizer {
           const index_t u = cell_of<D>(g);
           if (std::find(cells.begin(), cells.begin() + n_cells, u) == cells.begin() + n_cells) cells[n_cells++] = u;
         }
+    // Per cell, the local vertices holding B (all B's vertices are in a new cell).
+    auto b_mask = [&](index_t c) {
+      unsigned m = 0;
+      int found = 0;
+      for (int i = 0; i <= D; ++i)
+        for (int j = 0; j < plan.b_count; ++j)
+          if (mesh_.vertex(c, i) == plan.b[j]) m |= 1u << i, ++found;
+      return found == plan.b_count ? m : ~0u;  // ~0u: no simplex of c contains B
+    };
     using Key = std::array<index_t, D>;
     std::array<Key, cap*(P - D - 1 > 0 ? P - D - 1 : 1)> seen;
     int n_seen = 0;
     for (int j = 0; j < n_cells; ++j) {
       const index_t c = cells[j];
+      const unsigned holds_b = b_mask(c);
       for (int i = 0; i <= D; ++i) {
         const index_t g = mesh_.opp[(D + 1) * c + i];
-        if (g == no_facet) continue;
+        if (g == no_facet || (holds_b & item_masks<D>[i]) == holds_b) continue;
         touch(cell_of<D>(g) < c ? P * cell_of<D>(g) + local_of<D>(g) : P * c + i);
       }
       for (int m = D + 1; m < P; ++m) {
+        if ((holds_b & item_masks<D>[m]) == holds_b) continue;
         Key key;  // the simplex's vertex ids, then sentinels (sorted last)
         key.fill(std::numeric_limits<index_t>::max());
         for (int i = 0, n = 0; i <= D; ++i)
