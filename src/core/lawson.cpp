@@ -187,11 +187,13 @@ class Optimizer {
   }
 
   // The items of the new cells, and for facet costs of their neighbours;
-  // a facet from its smaller slot, a lower simplex once per flip. Not the
-  // simplices that contain conv B: every cell around them is new, and each
-  // flip removing one restores the old cells (a raise by the gain just
-  // taken) or gives the other plan the flip was chosen against, so they
-  // are locally optimal now; a later flip that changes that lists them.
+  // a facet from its smaller slot, a lower simplex once per flip. In 2D
+  // and 3D not the simplices that contain conv B: every cell around them
+  // is new, and each flip removing one restores the old cells (a raise by
+  // the gain just taken) or gives the other plan the flip was chosen
+  // against, so they are locally optimal now; a later flip that changes
+  // that lists them. (4D's degenerate stars can offer more than the two
+  // plans compared, so there they are listed.)
   template <class Touch>
   void touch_around(const index_t* slots, const FlipPlan<D>& plan, Touch touch) const {
     const int count = plan.inserted_count;
@@ -214,7 +216,7 @@ class Optimizer {
       for (int i = 0; i <= D; ++i)
         for (int j = 0; j < plan.b_count; ++j)
           if (mesh_.vertex(c, i) == plan.b[j]) m |= 1u << i, ++found;
-      return found == plan.b_count ? m : ~0u;  // ~0u: no simplex of c contains B
+      return D <= 3 && found == plan.b_count ? m : ~0u;  // ~0u: no simplex of c is skipped
     };
     using Key = std::array<index_t, D>;
     std::array<Key, cap*(P - D - 1 > 0 ? P - D - 1 : 1)> seen;
