@@ -141,7 +141,8 @@ IntegerFrame<D> integer_frame(const std::vector<Vec<D>>& points, const ScanGrid<
   int f = 0;
   for (const Vec<D>& p : points)
     for (double c : p) {
-      if (!(std::abs(c) < 0x1p40)) return frame;
+      // Scaled coordinates stay below 2^32 * 2^4 * 2^12 = 2^48: exact in double.
+      if (!(std::abs(c) < 0x1p32)) return frame;
       while (std::ldexp(c, f) != std::floor(std::ldexp(c, f)))
         if (++f > 4) return frame;
     }
