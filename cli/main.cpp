@@ -17,10 +17,10 @@
 #include "util/progress.hpp"
 #include "util/size_limits.hpp"
 #include "pipeline/upscale.hpp"
+#include "util/thread_limit.hpp"
 #include "util/timing.hpp"
 
 #include <OpenImageIO/imageio.h>
-#include <tbb/global_control.h>
 
 #include <chrono>
 #include <cmath>
@@ -28,7 +28,6 @@
 #include <cstring>
 #include <iostream>
 #include <memory>
-#include <thread>
 
 #include <unistd.h>
 
@@ -47,12 +46,9 @@ int run_upscale_job(UpscaleArguments args) {
       ddt::check_output_path(args.mesh_view, args.input, !svg);
     }
     // Both cores unless --threads says otherwise (TBB for our stages, OIIO's pool for reading and writing).
-    std::unique_ptr<tbb::global_control> thread_limit;
-    // More threads than cores only slow the work down (each its own buffers).
-    const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    if (args.threads > cores) args.threads = cores;
+    args.threads = ddt::usable_threads(args.threads);
+    const auto thread_limit = ddt::limit_threads(args.threads);
     if (args.threads > 0) {
-      thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, args.threads);
       OIIO::attribute("threads", args.threads);
       OIIO::attribute("exr_threads", args.threads);  // OpenEXR compresses blocks of rows in parallel
     }

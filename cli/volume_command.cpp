@@ -15,14 +15,13 @@
 #include "io/volume_io.hpp"
 #include "eval/volume_pictures.hpp"
 #include "volume/volume_upscale.hpp"
+#include "util/thread_limit.hpp"
 #include "util/timing.hpp"
 
 #include <CLI/CLI.hpp>
-#include <tbb/global_control.h>
 
 #include <sys/resource.h>
 
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -30,8 +29,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <memory>
-#include <thread>
 
 namespace fs = std::filesystem;
 
@@ -180,11 +177,7 @@ int run_volume_upscale(int argc, char** argv) {
     auto log = [&](const std::string& line) {
       if (verbose) std::cerr << line << "\n";
     };
-    std::unique_ptr<tbb::global_control> thread_limit;
-    const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    if (threads > 0)
-      thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
-                                                           std::min(threads, cores));
+    const auto thread_limit = ddt::limit_threads(threads);
     // The whole job is sized from the input's header, before its data is
     // read: output size and memory.
     int out[3] = {0, 0, 0};

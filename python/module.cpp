@@ -11,6 +11,7 @@
 #include "eval/classic_resize.hpp"
 #include "eval/comparison.hpp"
 #include "util/error.hpp"
+#include "util/thread_limit.hpp"
 #include "io/image_io.hpp"
 #include "image/image_mesh.hpp"
 #include "image/mesh_view.hpp"
@@ -20,7 +21,6 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
-#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <chrono>
@@ -37,14 +37,6 @@ namespace py = pybind11;
 using namespace ddtpy;
 
 namespace {
-
-// Limits the library's threads for one call (0: all cores; more than the
-// cores are not used, as on the command line).
-std::unique_ptr<tbb::global_control> thread_limit(int threads) {
-  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  if (threads <= 0) return nullptr;
-  return std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, std::min(threads, cores));
-}
 
 // Runs `work`, the library's computation reporting to `progress`, with the
 // GIL released, in a way Ctrl-C stops: Python runs signal handlers only in
@@ -180,7 +172,7 @@ py::array upscale(const py::array& array, const py::object& scale, const py::obj
   ddt::Progress progress;
   call.options.progress = &progress;
   run_interruptibly(progress, [&] {
-    const auto limit = thread_limit(call.threads);
+    const auto limit = ddt::limit_threads(call.threads);
     out = ddt::upscale(image, out_w, out_h, call.options, &stats);
     if (call.compare) {
       const ddt::Image classic = ddt::classic_resize(image, out_w, out_h, *call.compare);
@@ -216,7 +208,7 @@ py::tuple upscale_file(const std::string& input, const std::string& output, cons
   ddt::Progress progress;
   call.options.progress = &progress;
   run_interruptibly(progress, [&] {
-    const auto limit = thread_limit(call.threads);
+    const auto limit = ddt::limit_threads(call.threads);
     ddt::ImageFile file;
     try {
       ddt::check_output_path(output, input);
@@ -250,7 +242,7 @@ py::array upscale_rows(const py::array& rows, int top, int image_height, int fir
   ddt::Progress progress;
   call.options.progress = &progress;
   run_interruptibly(progress, [&] {
-    const auto limit = thread_limit(call.threads);
+    const auto limit = ddt::limit_threads(call.threads);
     out = ddt::upscale_rows(in.image, top, image_height, first, end, out_width, out_height, call.options);
   });
   return array_from_image(out, in.dtype, in.planar);
@@ -293,7 +285,7 @@ py::array upscale_volume(const py::array& array, const py::object& scale, const 
   ddt::Volume result;
   {
     py::gil_scoped_release release;
-    const auto limit = thread_limit(call.threads);
+    const auto limit = ddt::limit_threads(call.threads);
     result = ddt::upscale_volume(v, out[0], out[1], out[2], call.options);
   }
   return array_from_volume(result, in.dtype);
@@ -335,7 +327,7 @@ py::array grid(const py::array& points, const py::array& values, const py::objec
   ddt::Image image;
   {
     py::gil_scoped_release release;
-    const auto limit = thread_limit(call.threads);
+    const auto limit = ddt::limit_threads(call.threads);
     ddt::merge_duplicate_points(table);
     const std::vector<float> floats(table.values.begin(), table.values.end());
     image = ddt::grid_points(table.points, floats, channels, o);

@@ -78,25 +78,33 @@ struct CellSetup {
   Vec<D> lo, hi;                  // bounding box
 };
 
-// Orientation of the cell's facets, from the mesh invariant (cells are
-// positive): with base b = (i == 0 ? 1 : 0) and the edges p_j - p_b in
-// increasing j (j != i, b), det[edges; p_i - p_b] has the sign
-// (-1)^(D - i) for i >= 1 and (-1)^D for i = 0 (a cyclic shift).
+// The cofactor normal of facet i (opposite vertex i) of a positive cell,
+// pointing towards vertex i; in double or in integers (the integer frame).
+// Orientation, from the mesh invariant (cells are positive): with base
+// b = (i == 0 ? 1 : 0) and the edges p_j - p_b in increasing j (j != i, b),
+// det[edges; p_i - p_b] has the sign (-1)^(D - i) for i >= 1 and (-1)^D for
+// i = 0 (a cyclic shift).
+template <int D, class T>
+std::array<T, D> inward_normal(const std::array<std::array<T, D>, D + 1>& p, int i) {
+  const int base = i == 0 ? 1 : 0;
+  std::array<std::array<T, D>, D - 1> edges;
+  int n = 0;
+  for (int j = 0; j <= D; ++j) {
+    if (j == i || j == base) continue;
+    for (int k = 0; k < D; ++k) edges[n][k] = p[j][k] - p[base][k];
+    ++n;
+  }
+  std::array<T, D> normal = normal_of<D, T>(edges);
+  if (((i == 0 ? D : D - i) % 2) != 0)
+    for (T& x : normal) x = -x;
+  return normal;
+}
+
 template <int D>
 void setup_cell(CellSetup<D>& s, bool distances = true) {
   for (int i = 0; i <= D; ++i) {
     const int base = i == 0 ? 1 : 0;
-    std::array<Vec<D>, D - 1> edges;
-    int n = 0;
-    for (int j = 0; j <= D; ++j) {
-      if (j == i || j == base) continue;
-      for (int k = 0; k < D; ++k) edges[n][k] = s.p[j][k] - s.p[base][k];
-      ++n;
-    }
-    Vec<D> raw = normal_of<D>(edges);
-    const bool negative = ((i == 0 ? D : D - i) % 2) != 0;
-    if (negative)
-      for (double& x : raw) x = -x;
+    const Vec<D> raw = inward_normal<D, double>(s.p, i);
     s.raw[i] = raw;
     if (i >= 1) {
       s.den[i] = 0;
@@ -178,17 +186,7 @@ bool integer_cell(const IntegerFrame<D>& frame, const CellSetup<D>& s, IntegerCe
     for (int k = 0; k < D; ++k)
       if (std::abs(cell.v[i][k] - cell.v[0][k]) >= limit) return false;
   for (int i = 0; i <= D; ++i) {
-    const int base = i == 0 ? 1 : 0;
-    std::array<std::array<std::int64_t, D>, D - 1> edges;
-    int n = 0;
-    for (int j = 0; j <= D; ++j) {
-      if (j == i || j == base) continue;
-      for (int k = 0; k < D; ++k) edges[n][k] = cell.v[j][k] - cell.v[base][k];
-      ++n;
-    }
-    std::array<std::int64_t, D> normal = normal_of<D, std::int64_t>(edges);
-    if (((i == 0 ? D : D - i) % 2) != 0)  // setup_cell's orientation rule
-      for (std::int64_t& x : normal) x = -x;
+    const std::array<std::int64_t, D> normal = inward_normal<D, std::int64_t>(cell.v, i);
     cell.normal[i] = normal;
     cell.tie[i] = 0;
     for (int k = 0; k < D && cell.tie[i] == 0; ++k)
