@@ -22,6 +22,8 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <malloc.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -199,6 +201,11 @@ int run_upscale(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Bands of rows (a few MB each, allocated and freed by the hundred) are
+  // served from freed heap memory instead of fresh pages, which cost a
+  // page fault each on the machines measured (docs/performance.md).
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
   if (argc >= 2 && std::strcmp(argv[1], "eval") == 0) return run_eval_command(argc - 1, argv + 1);
   if (argc >= 2 && std::strcmp(argv[1], "grid") == 0) return run_grid_command(argc - 1, argv + 1);
   if (argc >= 2 && std::strcmp(argv[1], "scene") == 0) return run_scene_command(argc - 1, argv + 1);

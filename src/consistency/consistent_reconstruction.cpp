@@ -7,7 +7,6 @@
 #include "image/rasterizer.hpp"
 #include "util/timing.hpp"
 
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <chrono>
@@ -35,14 +34,6 @@ void subtract_from(const Image& src, std::vector<double>& acquired) {
   for (std::size_t i = 0; i < acquired.size(); ++i) acquired[i] = double(src.pixels[i]) - acquired[i];
 }
 
-void add_image(Image& out, const Image& add) {
-  tbb::parallel_for(0, out.height, [&](int Y) {
-    float* o = &out.pixels[out.index(0, Y)];
-    const float* a = &add.pixels[add.index(0, Y)];
-    for (std::size_t i = 0, n = static_cast<std::size_t>(out.width) * out.channels; i < n; ++i) o[i] += a[i];
-  });
-}
-
 }  // namespace
 
 void make_consistent(Image& out, const Mesh2& mesh, const Image& src, const ConsistencyOptions& options,
@@ -65,27 +56,32 @@ void make_consistent(Image& out, const Mesh2& mesh, const Image& src, const Cons
   subtract_from(src, residual);
   local.residual_before = max_abs(residual);
   // Back-projection on the mesh: x += r - A x, with A v = acquire(linear
-  // render of v on the mesh); the rasterizer draws each step's surface
-  // (exact ownership, fast on lattice meshes) and the step is added as
-  // drawn, so its acquisition is exactly what leaves the residual.
+  // render of v on the mesh); the rasterizer adds each step's surface to
+  // the output as drawn (exact ownership, fast on lattice meshes), and the
+  // new residual is the output's own.
   if (options.mesh_steps > 0) {
     RenderGrid surface;
     surface.width = out.width;
     surface.height = out.height;
     surface.scale_x = static_cast<double>(out.width) / W;
     surface.scale_y = static_cast<double>(out.height) / H;
-    Image step(out.width, out.height, C);
     std::vector<float> values(residual.size());
     double norm = norm2(residual);
     for (int k = 0; k < options.mesh_steps; ++k) {
       std::transform(residual.begin(), residual.end(), values.begin(), [](double v) { return static_cast<float>(v); });
-      render_mesh_into(step, 0, mesh, values, C, surface);
-      acquisition.apply(step, 0, 0, H, acquired);
-      for (std::size_t i = 0; i < acquired.size(); ++i) acquired[i] = residual[i] - acquired[i];
+      add_mesh_render_into(out, 0, mesh, values, C, surface);
+      acquisition.apply(out, 0, 0, H, acquired);
+      subtract_from(src, acquired);
       const double now = norm2(acquired);
-      // Kept while it lowers the residual's 2-norm by 1 % or more.
-      if (!(now < norm * (1 - 0.01))) break;
-      add_image(out, step);
+      // Kept while it lowers the residual's 2-norm by 1 % or more; else
+      // taken back (to rounding), and the residual is the output's again.
+      if (!(now < norm * (1 - 0.01))) {
+        for (float& v : values) v = -v;
+        add_mesh_render_into(out, 0, mesh, values, C, surface);
+        acquisition.apply(out, 0, 0, H, residual);
+        subtract_from(src, residual);
+        break;
+      }
       residual.swap(acquired);
       norm = now;
       ++local.mesh_steps;
@@ -117,10 +113,10 @@ void make_consistent(Image& out, const Mesh2& mesh, const Image& src, const Cons
   };
   auto hand_out = [&](int first, int end) {  // output rows
     if (!options.output_rows || first >= end) return;
-    Image rows(out.width, end - first, C);
-    const std::size_t row_floats = static_cast<std::size_t>(out.width) * C;
-    std::copy_n(out.pixels.begin() + static_cast<std::ptrdiff_t>(row_floats * first), rows.pixels.size(),
-                rows.pixels.begin());
+    Image rows;
+    rows.width = out.width, rows.height = end - first, rows.channels = C;
+    const std::ptrdiff_t row_floats = static_cast<std::ptrdiff_t>(out.width) * C;
+    rows.pixels.assign(out.pixels.begin() + row_floats * first, out.pixels.begin() + row_floats * end);
     options.output_rows(std::move(rows), first);
   };
   // Box at integer scales acquires exactly the footprint means the last

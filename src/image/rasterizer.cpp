@@ -19,9 +19,13 @@
 namespace ddt {
 using namespace raster;
 
-void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vector<float>& values, int C,
-                      const RenderGrid& grid, RenderStats* stats, bool fill_outside, const std::vector<float>* gradients,
-                      Progress* progress) {
+namespace {
+
+// render_mesh_into and add_mesh_render_into: `add` adds the linear surface
+// to the pixels' values instead of writing it.
+void draw_mesh(Image& out, int out_row, const Mesh2& mesh, const std::vector<float>& values, int C,
+               const RenderGrid& grid, RenderStats* stats, bool fill_outside, const std::vector<float>* gradients,
+               Progress* progress, bool add) {
   if (gradients && (gradients->size() != values.size() * 2 || C > max_channels))
     throw Error("render_mesh: cubic mode needs #V x C x 2 gradients and at most 16 channels");
   if (C > max_channels) throw Error("render_mesh: at most 16 channels");
@@ -34,18 +38,29 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
     if (stats) *stats = local;
     if (!fill_outside) return;
     const Image line = render_collinear(mesh, values, C, grid, row0, row1);
-    std::copy(line.pixels.begin(), line.pixels.end(), out.pixels.begin() + static_cast<std::ptrdiff_t>(out.index(0, out_row)));
+    float* o = &out.pixels[out.index(0, out_row)];
+    for (std::size_t i = 0; i < line.pixels.size(); ++i) o[i] = add ? o[i] + line.pixels[i] : line.pixels[i];
     return;
   }
   // Grid row y goes to out row y - shift.
   const int shift = row0 - out_row;
   Scene scene{mesh, values, C, grid};
   scene.gradients = gradients;
+  scene.add = add;
   scene.V = static_cast<index_t>(mesh.points.size());
   scene.T = mesh.triangle_count();
   bool every_point_used = false;
   scene.hull = hull_half_edges(mesh, &every_point_used);
   if (fill_outside) add_rim(scene);
+  if (add && !scene.hull_convex) {
+    // The rim of a hull that is not convex can reach over the mesh and be
+    // drawn twice: drawn apart, then added.
+    Image rows(grid.width, row1 - row0, C);
+    draw_mesh(rows, 0, mesh, values, C, grid, stats, fill_outside, nullptr, progress, false);
+    float* o = &out.pixels[out.index(0, out_row)];
+    for (std::size_t i = 0; i < rows.pixels.size(); ++i) o[i] += rows.pixels[i];
+    return;
+  }
   // Half-edges 3t + k of the mesh and the rim are index_t.
   if (3 * (static_cast<long long>(scene.T) + static_cast<long long>(scene.rim_tris.size() / 3)) >
       std::numeric_limits<index_t>::max())
@@ -122,6 +137,27 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
   for (const auto& s : starts) ++starts_of[s.first + 1];
   for (int k = 0; k < groups; ++k) starts_of[k + 1] += starts_of[k];
 
+  // The output pixel a vertex of a triangle falls on, in the rows drawn (else null).
+  std::vector<char> used;
+  if (!every_point_used) {
+    used.assign(scene.V, 0);
+    for (index_t v : mesh.tri) used[v] = 1;
+  }
+  auto vertex_pixel = [&](index_t v) -> float* {
+    if (!used.empty() && !used[v]) return nullptr;
+    const Point2 p = scene.pos(v);
+    if (p.x != std::floor(p.x) || p.y != std::floor(p.y)) return nullptr;
+    if (p.x < 0 || p.y < row0 || p.x >= grid.width || p.y >= row1) return nullptr;
+    return &out.pixels[out.index(static_cast<int>(p.x), static_cast<int>(p.y) - shift)];
+  };
+  std::vector<float> pixels_before;
+  if (add && !(lattice && (phase.x != 0 || phase.y != 0))) {  // else no vertex is on a pixel centre
+    pixels_before.resize(static_cast<std::size_t>(scene.V) * C);
+    tbb::parallel_for(index_t(0), scene.V, [&](index_t v) {
+      if (const float* px = vertex_pixel(v)) std::copy_n(px, C, &pixels_before[static_cast<std::size_t>(v) * C]);
+    });
+  }
+
   constexpr index_t shape_chunk = 1 << 12;  // triangles
   const int shape_chunks = by_shape ? static_cast<int>((scene.T + shape_chunk - 1) / shape_chunk) : 0;
   std::optional<ShapeTable> shapes;  // 256 KB of slots: only when used
@@ -179,23 +215,30 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
   local.uncovered = static_cast<long long>(rows) * grid.width - drawn;
 
   // Samples that fall on pixel centres are written exactly (the plane and
-  // the patch equal the vertex value there up to rounding).
-  std::vector<char> used;
-  if (!every_point_used) {
-    used.assign(scene.V, 0);
-    for (index_t v : mesh.tri) used[v] = 1;
-  }
+  // the patch equal the vertex value there up to rounding); added, to the
+  // pixel's value from before the drawing.
   tbb::parallel_for(index_t(0), scene.V, [&](index_t v) {
-    if (!used.empty() && !used[v]) return;
-    const Point2 p = scene.pos(v);
-    if (p.x != std::floor(p.x) || p.y != std::floor(p.y)) return;
-    if (p.x < 0 || p.y < row0 || p.x >= grid.width || p.y >= row1) return;
+    float* px = vertex_pixel(v);
+    if (!px) return;
     const float* z = scene.value(v);
-    float* px = &out.pixels[out.index(static_cast<int>(p.x), static_cast<int>(p.y) - shift)];
-    for (int c = 0; c < C; ++c) px[c] = z[c];
+    const float* before = add ? &pixels_before[static_cast<std::size_t>(v) * C] : nullptr;
+    for (int c = 0; c < C; ++c) px[c] = add ? before[c] + z[c] : z[c];
   });
 
   if (stats) *stats = local;
+}
+
+}  // namespace
+
+void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vector<float>& values, int C,
+                      const RenderGrid& grid, RenderStats* stats, bool fill_outside, const std::vector<float>* gradients,
+                      Progress* progress) {
+  draw_mesh(out, out_row, mesh, values, C, grid, stats, fill_outside, gradients, progress, false);
+}
+
+void add_mesh_render_into(Image& out, int out_row, const Mesh2& mesh, const std::vector<float>& values, int C,
+                          const RenderGrid& grid, RenderStats* stats) {
+  draw_mesh(out, out_row, mesh, values, C, grid, stats, true, nullptr, nullptr, true);
 }
 
 Image render_mesh(const Mesh2& mesh, const std::vector<float>& values, int C, const RenderGrid& grid,

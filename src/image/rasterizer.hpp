@@ -108,4 +108,11 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
                       const RenderGrid& grid, RenderStats* stats = nullptr, bool fill_outside = true,
                       const std::vector<float>* gradients = nullptr, Progress* progress = nullptr);
 
+// As render_mesh_into for the linear surface (the rim drawn), but each
+// pixel's value is added to the one already in `out`: the same bits as
+// drawing into an image of its own and adding that, without the image
+// (a correction to an output held in memory).
+void add_mesh_render_into(Image& out, int out_row, const Mesh2& mesh, const std::vector<float>& values, int C,
+                          const RenderGrid& grid, RenderStats* stats = nullptr);
+
 }  // namespace ddt

@@ -11,6 +11,7 @@
 #include "image/optimizer_choice.hpp"
 #include "image/optimizer.hpp"
 #include "image/rasterizer.hpp"
+#include "util/prefaulted_image.hpp"
 #include "util/size_limits.hpp"
 #include "image/triangulation.hpp"
 
@@ -18,6 +19,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <future>
 #include <cstdio>
 #include <limits>
 
@@ -135,8 +138,9 @@ Mesh2 band_mesh(const std::vector<float>& values, int W, int C, const Band& band
 // image_height rows; the band lies within them.
 LawsonStats run_band(const Image& src, int src_top, int image_height, const Band& band, int out_width, int out_height,
                      const UpscaleOptions& options, const CostFunction& cost, const DriveChannels& drive,
-                     long long region_triangles, int region_rows, const std::string& label, Image& out,
-                     UpscaleStats& local, int margin = std::numeric_limits<int>::max()) {
+                     long long region_triangles, int region_rows, const std::string& label,
+                     const std::function<Image&()>& output, UpscaleStats& local,
+                     int margin = std::numeric_limits<int>::max()) {
   const StageRunner stages(options.log, options.progress, label);
   const int W = src.width, C = src.channels;
   const bool whole = band.top == 0 && band.bottom == image_height;
@@ -155,6 +159,9 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
   // with a wider one, so nothing is drawn (or handed out) from this one.
   if (options.optimize && band_margin_needed(ls.iterations, region_rows) > margin) return ls;
 
+  // The image drawn into (the whole output, or the band's rows), once it
+  // is allocated; unused when the rows are streamed.
+  Image& out = output();
   auto t0 = Clock::now();
   RenderGrid grid;
   grid.width = out_width;
@@ -313,10 +320,16 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
   // band of it once its last steps are done (make_consistent).
   const bool streamed = static_cast<bool>(options.output_rows);
   const bool whole_output = !streamed || band_options.model.kind != AcquisitionModel::Kind::point;
-  Image out = whole_output ? Image(out_width, out_height, C) : Image();
+  // The output's pages are mapped while the mesh is built.
+  Image out;
+  std::future<Image> allocating = whole_output ? prefaulted_image_async(out_width, out_height, C) : std::future<Image>();
+  const std::function<Image&()> output = [&]() -> Image& {
+    if (allocating.valid()) out = allocating.get();
+    return out;
+  };
   if (tile_rows == 0) {
     const LawsonStats ls = run_band(src, 0, H, Band{0, H, 0, out_height}, out_width, out_height, band_options, cost, drive,
-                                    region_triangles, region_rows, "", out, local);
+                                    region_triangles, region_rows, "", output, local);
     take_optimizer_stats(ls, local);
     // Streamed, the consistent reconstruction has handed its rows out.
     if (streamed) out = Image();
@@ -340,7 +353,7 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
         const std::string label = "tile " + std::to_string(i + 1) + "/" + std::to_string(tiles) + " ";
         const int cut_margin = std::min(band.top > 0 ? y0 - band.top : H, band.bottom < H ? band.bottom - y1 : H);
         const LawsonStats ls = run_band(src, 0, H, band, out_width, out_height, band_options, cost, drive, region_triangles,
-                                        region_rows, label, out, part, cut_margin);
+                                        region_rows, label, output, part, cut_margin);
         const int needed = band_margin_needed(ls.iterations, region_rows);
         if (options.optimize && needed > margin) {
           margin = needed + region_rows;
@@ -362,7 +375,7 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
     local.tile_margin = margin;
   }
   if (stats) *stats = local;
-  return out;
+  return whole_output && !streamed ? output() : out;
 }
 
 Mesh2 upscale_mesh(const Image& src, const UpscaleOptions& options, UpscaleStats* stats) {
@@ -411,7 +424,8 @@ Image upscale_rows(const Image& rows, int top, int image_height, int first, int 
   UpscaleStats local;
   local.tile_margin = std::min(top > 0 ? first - top : image_height, bottom < image_height ? bottom - end : image_height);
   const LawsonStats ls = run_band(rows, top, image_height, band, out_width, out_height, options, cost, drive,
-                                  region_triangles, region_rows, "", out, local, whole ? std::numeric_limits<int>::max()
+                                  region_triangles, region_rows, "", [&]() -> Image& { return out; }, local,
+                                  whole ? std::numeric_limits<int>::max()
                                                                                       : local.tile_margin);
   take_optimizer_stats(ls, local);
   if (!whole && options.optimize && band_margin_needed(ls.iterations, region_rows) > local.tile_margin)

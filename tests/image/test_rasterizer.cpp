@@ -439,3 +439,47 @@ TEST_CASE("render_mesh: drawn by shape, several chunks of triangles, a notched h
     CHECK((compare_shapes_with_walk(m, 3, false, {3, 3, 0, 0, true}, true, false) > 0) == (extra.x == 7.5));
   }
 }
+
+TEST_CASE("add_mesh_render_into: the same bits as drawing into an image of its own and adding it") {
+  // Lattice meshes drawn by shape (at x3 their vertices fall on pixel
+  // centres, written exactly), a non-lattice mesh (walked), a hull that is
+  // not convex (the rim can reach over it), and collinear points.
+  std::vector<Mesh2> meshes;
+  std::mt19937 rng(11);
+  {
+    Mesh2 m = delaunay_triangulation(test::grid_points(19, 13));
+    const std::vector<float> field = random_values(m.points.size(), 1, 5);
+    optimize_lawson(m, field, 1, find_cost("sederberg"));
+    meshes.push_back(std::move(m));
+    std::vector<Point2> scattered;
+    std::uniform_real_distribution<double> u(0.0, 12.0);
+    for (int i = 0; i < 60; ++i) scattered.push_back({u(rng) * 1.5, u(rng)});
+    meshes.push_back(delaunay_triangulation(scattered));
+    meshes.push_back(u_shaped_grid());
+    meshes.push_back(delaunay_triangulation({{0.5, 0.5}, {2.5, 1.5}, {4.5, 2.5}}));
+  }
+  for (std::size_t mi = 0; mi < meshes.size(); ++mi)
+    for (int C : {1, 3})
+      for (double scale : {3.0, 4.0, 2.5})
+        for (bool window : {false, true}) {
+          CAPTURE(mi);
+          CAPTURE(C);
+          CAPTURE(scale);
+          CAPTURE(window);
+          const Mesh2& m = meshes[mi];
+          const std::vector<float> values = random_values(m.points.size(), C, 17 + static_cast<unsigned>(mi));
+          RenderGrid g = grid_for(20, 14, static_cast<int>(20 * scale), static_cast<int>(14 * scale));
+          if (window) g.first_row = 7, g.rows = 13;
+          const int rows = window ? g.rows : g.height, out_row = window ? 2 : 0;
+          Image base(g.width, rows + out_row + 1, C);
+          base.pixels = random_values(base.pixel_count(), C, 23);
+          const Image drawn = render_mesh(m, values, C, g);
+          Image expected = base;
+          for (int y = 0; y < rows; ++y)
+            for (int x = 0; x < g.width; ++x)
+              for (int c = 0; c < C; ++c) expected.at(x, y + out_row, c) += drawn.at(x, y, c);
+          Image added = base;
+          add_mesh_render_into(added, out_row, m, values, C, g);
+          CHECK(std::memcmp(added.pixels.data(), expected.pixels.data(), added.pixels.size() * sizeof(float)) == 0);
+        }
+}

@@ -39,6 +39,7 @@ struct Scene {
   int C;
   const RenderGrid& grid;
   const std::vector<float>* gradients = nullptr;  // cubic mode
+  bool add = false;  // linear mode: values added to the pixels' own (add_mesh_render_into)
   index_t V = 0, T = 0;
   std::vector<Point2> rim_points;  // input coordinates
   std::vector<index_t> rim_source;

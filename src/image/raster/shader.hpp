@@ -72,6 +72,7 @@ struct Shader {
   int C;
   Point2 p0;
   double inv_area2;  // 1 / (twice the signed area), in pixels
+  bool add = false;  // linear: Scene::add
   // Linear: value = v0 + (X - p0.x) sx + (Y - p0.y) sy (exact at p0; the
   // other vertices are written exactly afterwards, see render_mesh).
   double v0[max_channels], sx[max_channels], sy[max_channels];
@@ -91,7 +92,7 @@ struct Shader {
   // small scales).
   void init(const Scene& scene, index_t t, const index_t id[3], const Point2& q0, const Point2& p1, const Point2& p2,
             double area2, long long pixels) {
-    C = CT > 0 ? CT : scene.C, p0 = q0, inv_area2 = 1.0 / area2;
+    C = CT > 0 ? CT : scene.C, p0 = q0, inv_area2 = 1.0 / area2, add = scene.add;
     const float *z0 = scene.value(id[0]), *z1 = scene.value(id[1]), *z2 = scene.value(id[2]);
     const double ux = p1.x - p0.x, uy = p1.y - p0.y, vx = p2.x - p0.x, vy = p2.y - p0.y;
     if constexpr (cubic) {
@@ -227,14 +228,16 @@ struct Shader {
     for (int c = 0; c < C; ++c) base[c] = v0[c] + (Y - p0.y) * sy[c] + (xs - p0.x) * sx[c];
     for (int x = xs; x <= xe; ++x, px += C) {
       const double dx = x - xs;
-      for (int c = 0; c < C; ++c) px[c] = static_cast<float>(base[c] + dx * sx[c]);
+      for (int c = 0; c < C; ++c) put(px[c], static_cast<float>(base[c] + dx * sx[c]));
     }
   }
   // Linear: one pixel as row() draws it, from dy = Y - p0.y, dxs = xs - p0.x
   // and dx = x - xs (the same operations in the same order).
   void placed_pixel(double dy, double dxs, double dx, float* px) const {
-    for (int c = 0; c < C; ++c) px[c] = static_cast<float>((v0[c] + dy * sy[c] + dxs * sx[c]) + dx * sx[c]);
+    for (int c = 0; c < C; ++c) put(px[c], static_cast<float>((v0[c] + dy * sy[c] + dxs * sx[c]) + dx * sx[c]));
   }
+  // Linear: a pixel's value written, or added to the pixel's own.
+  void put(float& pixel, float value) const { pixel = add ? pixel + value : value; }
   // Cubic: one pixel from its barycentric weights.
   void pixel(double l0, double l1, double l2, float* px) const {
     double m[10];
