@@ -56,11 +56,12 @@ double mean_keeping_shift(const std::vector<float>& o, double mean, double lo, d
   for (int it = 0; it < 60; ++it) {
     double m = 0;
     int free = 0;
+    // Without branches (which value is clamped is unpredictable): the same
+    // sums, as lo <= hi.
     for (float v : o) {
       const double x = v + t;
-      if (x <= lo) m += lo;
-      else if (x >= hi) m += hi;
-      else m += x, ++free;
+      m += std::min(std::max(x, lo), hi);
+      free += (x > lo) & (x < hi);
     }
     const double gap = mean - m / o.size();
     if (std::abs(gap) < 1e-9) break;
