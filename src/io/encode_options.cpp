@@ -94,6 +94,8 @@ void apply_encode_options(const std::string& format_name, const EncodeOptions& o
   const bool float_tiff = format == "tiff" && spec.format.basetype == OIIO::TypeDesc::FLOAT;
   if (options.half && format != "openexr" && !float_tiff)
     throw Error("--half is for EXR output (and TIFF of float images)");
+  if (options.full_float && format != "openexr") throw Error("--float is for EXR output");
+  if (options.half && options.full_float) throw Error("--half and --float: give one of them");
   if (options.tile != 0 && format != "tiff" && format != "openexr")
     throw Error("--tile-size is for TIFF and EXR output");
   if (options.tile != 0 && (options.tile < 16 || options.tile % 16 != 0 || options.tile > 65536))
@@ -125,6 +127,7 @@ void apply_encode_options(const std::string& format_name, const EncodeOptions& o
     spec.attribute("compression", name);
     if (level >= 0) spec.attribute("openexr:dwaCompressionLevel", static_cast<float>(level));
     if (options.half) spec.set_format(OIIO::TypeDesc::HALF);
+    if (options.full_float) spec.set_format(OIIO::TypeDesc::FLOAT);
   } else if (format == "tiff") {
     std::string name;
     const int level = split_level(text, name, -1, 1, 100, "the level");

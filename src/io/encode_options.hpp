@@ -14,6 +14,10 @@
 //   refuse it.
 // half: EXR (and float TIFF) samples as 16-bit half floats instead of 32-bit
 //   floats; refused for formats without half samples.
+// full_float: EXR samples as 32-bit floats whatever the source. By default
+//   an EXR holds half floats for 8-bit and half sources (11 bits of
+//   precision: a sixteenth of an 8-bit step; what oiiotool writes for them)
+//   and 32-bit floats for 16-bit and float sources (image_io.cpp).
 // tile: TIFF and EXR written in tiles of tile x tile pixels (a multiple of
 //   16) instead of scanlines or strips: what viewers of huge images read
 //   fastest; 0: scanlines.
@@ -31,6 +35,7 @@ struct EncodeOptions {
   std::string compression;
   int quality = 0;
   bool half = false;
+  bool full_float = false;
   int tile = 0;
 };
 
@@ -45,7 +50,8 @@ std::string default_compression(const std::string& format_name);
 void check_encode_options(const std::string& path, const EncodeOptions& options);
 
 // Sets the attributes of `options` (checked) on `spec` for `format_name`;
-// the sample type follows `half` for EXR. Call after the spec's format is set.
+// the sample type follows `half` and `full_float` for EXR. Call after the
+// spec's format is set.
 void apply_encode_options(const std::string& format_name, const EncodeOptions& options, OIIO::ImageSpec& spec);
 
 }  // namespace ddt

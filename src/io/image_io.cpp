@@ -47,7 +47,11 @@ std::string lower_extension(const std::string& path) {
 
 OIIO::TypeDesc output_type(const std::string& path, SampleFormat source, const OIIO::ImageOutput& out) {
   const std::string ext = lower_extension(path);
-  if (ext == ".exr" || ext == ".hdr" || ext == ".pfm") return OIIO::TypeDesc::FLOAT;
+  // EXR: half floats hold 8-bit and half sources to a sixteenth of their
+  // step (as oiiotool writes them); --float or --half choose (encode_options.hpp).
+  if (ext == ".exr") return source == SampleFormat::uint8 || source == SampleFormat::half ? OIIO::TypeDesc::HALF
+                                                                                          : OIIO::TypeDesc::FLOAT;
+  if (ext == ".hdr" || ext == ".pfm") return OIIO::TypeDesc::FLOAT;
   OIIO::TypeDesc wanted = OIIO::TypeDesc::UINT8;
   if (source == SampleFormat::uint16 || source == SampleFormat::half || source == SampleFormat::float32)
     wanted = OIIO::TypeDesc::UINT16;

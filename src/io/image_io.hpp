@@ -61,7 +61,8 @@ struct ImageReadLimits {
 ImageFile read_image(const std::string& path, const ImageReadLimits& limits = {});
 
 // Writes `image` to `path`; the format follows the extension. EXR is written
-// as 32-bit float (16-bit with encode.half); integer formats keep `source_format`'s depth (8 or 16 bit,
+// as half floats from 8-bit and half sources, else 32-bit floats
+// (encode.half, encode.full_float choose); integer formats keep `source_format`'s depth (8 or 16 bit,
 // float sources become 16 bit), rounded and clamped to 0..1.
 // metadata, when given, is written with the image where the format stores
 // it (ImageFile::metadata, through scaled_metadata; the windows in EXR).

@@ -55,26 +55,49 @@ TEST_CASE("write_image: PNG levels and filters round-trip the same pixels; a hig
   CHECK(std::filesystem::file_size(dir / "l0.png") >= std::uintmax_t(96 * 64 * 3 + 64));
 }
 
-TEST_CASE("write_image: EXR compression and --half reach the file") {
+TEST_CASE("write_image: EXR compression, --half and --float reach the file") {
   const TempDir dir;
   const Image img = texture(40, 30);
-  write_image(dir / "default.exr", img, SampleFormat::uint8);
-  OIIO::ImageSpec spec = spec_of(dir / "default.exr");
-  CHECK(spec.get_string_attribute("compression") == default_compression("openexr"));
-  CHECK(spec.format == OIIO::TypeDesc::FLOAT);
-  CHECK(read_image(dir / "default.exr").image.pixels == img.pixels);
+  auto within_half = [&](const Image& back) {  // half floats: 11 significant bits
+    bool all = true;
+    for (std::size_t i = 0; i < img.pixels.size(); ++i)
+      all = all && std::abs(back.pixels[i] - img.pixels[i]) <= std::abs(img.pixels[i]) * (1.0f / 2048);
+    return all;
+  };
+  // By default the source's precision decides: half from 8-bit and half
+  // sources, 32-bit floats from 16-bit and float ones.
+  for (SampleFormat source : {SampleFormat::uint8, SampleFormat::half, SampleFormat::uint16, SampleFormat::float32}) {
+    const bool half = source == SampleFormat::uint8 || source == SampleFormat::half;
+    CAPTURE(half);
+    write_image(dir / "default.exr", img, source);
+    const OIIO::ImageSpec spec = spec_of(dir / "default.exr");
+    CHECK(spec.get_string_attribute("compression") == default_compression("openexr"));
+    CHECK(spec.format == (half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT));
+    const Image back = read_image(dir / "default.exr").image;
+    CHECK(within_half(back));
+    if (!half) CHECK(back.pixels == img.pixels);
+  }
 
   EncodeOptions encode;
   encode.compression = "zip";
   encode.half = true;
-  write_image(dir / "half.exr", img, SampleFormat::uint8, -1, nullptr, encode);
-  spec = spec_of(dir / "half.exr");
+  write_image(dir / "half.exr", img, SampleFormat::float32, -1, nullptr, encode);
+  OIIO::ImageSpec spec = spec_of(dir / "half.exr");
   CHECK(spec.format == OIIO::TypeDesc::HALF);
   CHECK(spec.get_string_attribute("compression") == "zip");
   const ImageFile half = read_image(dir / "half.exr");
   CHECK(half.format == SampleFormat::half);
-  for (std::size_t i = 0; i < img.pixels.size(); ++i)  // half floats: 11 significant bits
-    CHECK(std::abs(half.image.pixels[i] - img.pixels[i]) <= std::abs(img.pixels[i]) * (1.0f / 2048));
+  CHECK(within_half(half.image));
+
+  encode.half = false;
+  encode.full_float = true;
+  write_image(dir / "float.exr", img, SampleFormat::uint8, -1, nullptr, encode);
+  CHECK(spec_of(dir / "float.exr").format == OIIO::TypeDesc::FLOAT);
+  CHECK(read_image(dir / "float.exr").image.pixels == img.pixels);
+  encode.half = true;
+  CHECK_THROWS_WITH_AS(check_encode_options("x.exr", encode), "--half and --float: give one of them", Error);
+  encode.half = false;
+  CHECK_THROWS_WITH_AS(check_encode_options("x.png", encode), "--float is for EXR output", Error);
 }
 
 TEST_CASE("write_image: TIFF compression and JPEG quality reach the file") {

@@ -129,7 +129,7 @@ def test_options_match_the_command_line(cli):
     # scale: positional; max-input-pixels: a limit on decoding files, arrays come decoded
     not_keywords = {"help", "list-costs", "outdir", "suffix", "format", "overwrite", "jobs", "scale", "max-input-pixels"}
     # how the output file is encoded and written (upscale_file writes with the defaults)
-    not_keywords |= {"compression", "quality", "half", "tile-size", "no-stream"}
+    not_keywords |= {"compression", "quality", "half", "float", "tile-size", "no-stream"}
     assert flags - not_keywords <= {k.replace("_", "-") for k in ddtscale.UPSCALE_OPTIONS}, \
         flags - not_keywords - {k.replace("_", "-") for k in ddtscale.UPSCALE_OPTIONS}
     assert "scale" in flags and "tile-rows" in flags
