@@ -87,6 +87,7 @@ void make_consistent(Image& out, const Mesh2& mesh, const Image& src, const Cons
       ++local.mesh_steps;
     }
   }
+  if (options.mesh_done) options.mesh_done();
   local.residual_mesh = max_abs(residual);
   std::vector<double> delta_grid;
   grid.solve(residual, delta_grid, C);

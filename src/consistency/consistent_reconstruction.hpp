@@ -56,6 +56,9 @@ struct ConsistencyOptions {
   // the work on the next; elsewhere once the whole output is.
   std::function<void(Image rows, int first_row)> output_rows;
   int output_band_rows = 256;
+  // When set, called once the mesh is read no more (before the last
+  // steps), so that the caller can free it.
+  std::function<void()> mesh_done;
 };
 
 struct ConsistencyStats {

@@ -154,7 +154,7 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
   const std::vector<float>& values = whole ? src.pixels : band_pixels;
 
   LawsonStats ls;
-  const Mesh2 mesh = band_mesh(values, W, C, band, options, cost, drive, region_triangles, region_rows, stages, local, ls);
+  Mesh2 mesh = band_mesh(values, W, C, band, options, cost, drive, region_triangles, region_rows, stages, local, ls);
   // A margin too narrow for the phases run: the caller redoes the band
   // with a wider one, so nothing is drawn (or handed out) from this one.
   if (options.optimize && band_margin_needed(ls.iterations, region_rows) > margin) return ls;
@@ -215,6 +215,10 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
     co.step_edges = options.step_edges;
     co.output_rows = options.output_rows;
     co.output_band_rows = streamed_band_rows(out_width, C, options);
+    // The mesh and the gradients are freed before the last steps, whose
+    // bands of output rows can then reuse their memory.
+    std::vector<float>().swap(gradients);
+    co.mesh_done = [&mesh] { mesh = Mesh2(); };
     ConsistencyStats cs;
     make_consistent(out, mesh, src, co, &cs);
     local.consistency_mesh_steps = cs.mesh_steps;
