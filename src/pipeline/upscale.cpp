@@ -379,7 +379,8 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
     local.tile_margin = margin;
   }
   if (stats) *stats = local;
-  return whole_output && !streamed ? output() : out;
+  if (allocating.valid()) out = allocating.get();  // waited for even where no band drew into it
+  return out;
 }
 
 Mesh2 upscale_mesh(const Image& src, const UpscaleOptions& options, UpscaleStats* stats) {
