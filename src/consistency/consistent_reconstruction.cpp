@@ -7,7 +7,6 @@
 #include "image/rasterizer.hpp"
 #include "util/timing.hpp"
 
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>

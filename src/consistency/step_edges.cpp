@@ -128,10 +128,9 @@ EdgeFit fit_edge(const Window& w, int main, double lo, double hi, double allowed
   const int n = window * w.C;
   double lambda = 1e-3;
   for (int it = 0; it < 30 && f > 1e-14; ++it) {
-    // Most windows that reach the fit are texture, and their steps shrink
-    // the misfit slowly: still 5x the allowed one after 3 steps, or 3x
-    // after 5, a fit was never accepted on the photographs measured
-    // (docs/consistency.md), and ending it there halves the fits' time.
+    // Most windows that reach the fit are texture, whose steps shrink the
+    // misfit slowly; no fit still 5x the allowed misfit after 3 steps, or
+    // 3x after 5, was accepted on the images measured (docs/consistency.md).
     if ((it >= 3 && fit.misfit > 5 * allowed) || (it >= 5 && fit.misfit > 3 * allowed)) return none;
     // Jacobian by forward differences from the residuals at x: the misfit
     // is piecewise smooth, and an error of O(h) in J only slows the steps

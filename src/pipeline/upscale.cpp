@@ -430,8 +430,7 @@ Image upscale_rows(const Image& rows, int top, int image_height, int first, int 
   local.tile_margin = std::min(top > 0 ? first - top : image_height, bottom < image_height ? bottom - end : image_height);
   const LawsonStats ls = run_band(rows, top, image_height, band, out_width, out_height, options, cost, drive,
                                   region_triangles, region_rows, "", [&]() -> Image& { return out; }, local,
-                                  whole ? std::numeric_limits<int>::max()
-                                                                                      : local.tile_margin);
+                                  whole ? std::numeric_limits<int>::max() : local.tile_margin);
   take_optimizer_stats(ls, local);
   if (!whole && options.optimize && band_margin_needed(ls.iterations, region_rows) > local.tile_margin)
     throw Error("a margin of " + std::to_string(local.tile_margin) + " rows is too narrow for the " +
