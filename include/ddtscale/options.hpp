@@ -138,7 +138,8 @@ struct UpscaleOptions {
   // scales; other models and scales once the whole output is).
   // The rows are those of the returned image, bit for bit.
   std::function<void(Image rows, int first_row)> output_rows;
-  int output_band_rows = 0;         // rows per band handed out; 0: about 24 MB of floats
+  int output_band_rows = 0;         // rows per band handed out; 0: about 8 MB of floats (fewer, larger bands
+                                    // where each is rendered on its own)
 };
 
 }  // namespace ddt

@@ -58,11 +58,19 @@ int first_output_row(int y, int in_height, int out_height) {
   return std::clamp(static_cast<int>(std::ceil(y * sy - 0.5)), 0, out_height);
 }
 
-// Output rows per band handed to UpscaleOptions::output_rows.
-int streamed_band_rows(int out_width, int channels, const UpscaleOptions& options) {
+// Output rows per band handed to UpscaleOptions::output_rows: about 8 MB
+// of floats, which keeps fewer pages in flight and starts the encoder
+// sooner than larger bands. Where each band is rendered on its own (the
+// point model), every band also walks the whole mesh, so there are at most
+// about 32 bands unless that makes a band over 64 MB (docs/performance.md,
+// "Band size").
+int streamed_band_rows(int out_width, int out_height, int channels, const UpscaleOptions& options,
+                       bool rendered_per_band) {
   if (options.output_band_rows > 0) return options.output_band_rows;
   const double row_bytes = 4.0 * out_width * channels;
-  return std::clamp(static_cast<int>(24e6 / row_bytes), 16, 4096);
+  int rows = static_cast<int>(8e6 / row_bytes);
+  if (rendered_per_band) rows = std::max(rows, std::min(out_height / 32, static_cast<int>(64e6 / row_bytes)));
+  return std::clamp(rows, 16, 4096);
 }
 
 struct Band {
@@ -186,7 +194,7 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
   const bool consistent = options.model.kind != AcquisitionModel::Kind::point;
   if (options.output_rows && !consistent) {
     // Streamed: the band's output rows rendered and handed out a part at a time.
-    const int step = streamed_band_rows(out_width, C, options);
+    const int step = streamed_band_rows(out_width, out_height, C, options, true);
     for (int first = band.out_first; first < band.out_end; first += step) {
       RenderGrid part_grid = grid;
       part_grid.first_row = first;
@@ -214,7 +222,7 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
     co.model = options.model;
     co.step_edges = options.step_edges;
     co.output_rows = options.output_rows;
-    co.output_band_rows = streamed_band_rows(out_width, C, options);
+    co.output_band_rows = streamed_band_rows(out_width, out_height, C, options, false);
     // The mesh and the gradients are freed before the last steps, whose
     // bands of output rows can then reuse their memory.
     std::vector<float>().swap(gradients);
