@@ -34,12 +34,21 @@ void draw_mesh(Image& out, int out_row, const Mesh2& mesh, const std::vector<flo
   const int row1 = grid.rows < 0 ? grid.height : std::clamp(grid.first_row + grid.rows, row0, grid.height);
   if (out.width != grid.width || out.channels != C || out_row < 0 || out_row + (row1 - row0) > out.height)
     throw Error("render_mesh_into: the image does not hold the rows");
+  // Where pixels are not drawn once each by the walk (collinear points; a
+  // hull that is not convex, whose rim can reach over the mesh), an added
+  // surface is drawn apart, then added.
+  auto drawn_apart_then_added = [&] {
+    Image rows(grid.width, row1 - row0, C);
+    draw_mesh(rows, 0, mesh, values, C, grid, stats, fill_outside, nullptr, progress, false);
+    float* o = &out.pixels[out.index(0, out_row)];
+    for (std::size_t i = 0; i < rows.pixels.size(); ++i) o[i] += rows.pixels[i];
+  };
   if (mesh.triangle_count() == 0) {
+    if (add) return drawn_apart_then_added();
     if (stats) *stats = local;
     if (!fill_outside) return;
     const Image line = render_collinear(mesh, values, C, grid, row0, row1);
-    float* o = &out.pixels[out.index(0, out_row)];
-    for (std::size_t i = 0; i < line.pixels.size(); ++i) o[i] = add ? o[i] + line.pixels[i] : line.pixels[i];
+    std::copy(line.pixels.begin(), line.pixels.end(), out.pixels.begin() + static_cast<std::ptrdiff_t>(out.index(0, out_row)));
     return;
   }
   // Grid row y goes to out row y - shift.
@@ -52,15 +61,7 @@ void draw_mesh(Image& out, int out_row, const Mesh2& mesh, const std::vector<flo
   bool every_point_used = false;
   scene.hull = hull_half_edges(mesh, &every_point_used);
   if (fill_outside) add_rim(scene);
-  if (add && !scene.hull_convex) {
-    // The rim of a hull that is not convex can reach over the mesh and be
-    // drawn twice: drawn apart, then added.
-    Image rows(grid.width, row1 - row0, C);
-    draw_mesh(rows, 0, mesh, values, C, grid, stats, fill_outside, nullptr, progress, false);
-    float* o = &out.pixels[out.index(0, out_row)];
-    for (std::size_t i = 0; i < rows.pixels.size(); ++i) o[i] += rows.pixels[i];
-    return;
-  }
+  if (add && !scene.hull_convex) return drawn_apart_then_added();
   // Half-edges 3t + k of the mesh and the rim are index_t.
   if (3 * (static_cast<long long>(scene.T) + static_cast<long long>(scene.rim_tris.size() / 3)) >
       std::numeric_limits<index_t>::max())

@@ -387,7 +387,7 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
     local.tile_margin = margin;
   }
   if (stats) *stats = local;
-  if (allocating.valid()) out = allocating.get();  // waited for even where no band drew into it
+  output();  // the allocation is waited for even where no band drew into it
   return out;
 }
 
