@@ -114,10 +114,43 @@ class Optimizer {
           f.dimension = D;
           return f;
         },
-        scan_initial, test, [&](index_t item) { pending_[item] = 0; }, on_iteration);
+        scan_initial, test, [&](index_t item) { pending_[item] = 0; }, on_iteration,
+        [&](index_t item, int distance) { prefetch(item / P, distance); });
   }
 
   double total() const { return total_cost<D>(mesh_, z_, K_, cost_); }
+
+  // Simplex-weight costs: each live cell's term, kept per slot so a test
+  // computes only the cells a flip would insert.
+  void init_cell_costs() {
+    if (facet_) return;
+    cell_costs_.assign(mesh_.slot_count(), 0.0);
+    tbb::parallel_for(index_t(0), mesh_.slot_count(), [&](index_t c) {
+      if (mesh_.is_live(c)) cell_costs_[c] = cell_cost<D>(mesh_, z_, K_, cost_, mesh_.cell_vertices(c));
+    });
+  }
+  // Room for slots appended before a parallel phase.
+  void reserve_cell_costs() {
+    if (!facet_) cell_costs_.resize(mesh_.slot_count());
+  }
+
+  // A test walks the cells around its item: far ahead the cell itself is
+  // fetched, nearer the cells across its facets (the links read then).
+  void prefetch(index_t c, int distance) const {
+    const std::size_t at = static_cast<std::size_t>(D + 1) * c;
+    if (at >= mesh_.opp.size()) return;
+    if (distance > 8) {
+      __builtin_prefetch(&mesh_.cell[at]);
+      __builtin_prefetch(&mesh_.opp[at]);
+      return;
+    }
+    for (int i = 0; i <= D; ++i) {
+      const index_t g = mesh_.opp[at + i];
+      if (g == no_facet) continue;
+      __builtin_prefetch(&mesh_.cell[static_cast<std::size_t>(D + 1) * cell_of<D>(g)]);
+      __builtin_prefetch(&mesh_.opp[static_cast<std::size_t>(D + 1) * cell_of<D>(g)]);
+    }
+  }
 
   // Flags the items of the first List_active as pending.
   void set_pending(const std::vector<std::uint32_t>& initial) {
@@ -129,6 +162,7 @@ class Optimizer {
 
   std::vector<char> pending_;        // per item: on a list, not yet tested
   std::vector<std::int32_t> owner_;  // per slot: the band owning it this phase
+  std::vector<double> cell_costs_;   // per slot (simplex-weight costs only)
 
  private:
   // Tests one item; applies the best improving flip (counted in flips)
@@ -158,8 +192,13 @@ class Optimizer {
     if (!facet_ && uniform_values(plans[0])) return 0;
     double gains[2] = {0, 0};
     int best = -1;
+    std::array<double, max_flip_cells<D>> removed_costs, inserted_costs[2];
+    if (!facet_)
+      for (int k = 0; k < plans[0].removed_count; ++k) removed_costs[k] = cell_costs_[plans[0].removed[k]];
     for (int p = 0; p < n; ++p) {
-      const LocalCosts lc = flip_costs<D>(mesh_, z_, K_, cost_, plans[p]);
+      const LocalCosts lc = facet_ ? flip_costs<D>(mesh_, z_, K_, cost_, plans[p])
+                                   : flip_costs<D>(mesh_, z_, K_, cost_, plans[p], removed_costs.data(),
+                                                   inserted_costs[p].data());
       if (!lc.improves(options_.relative_tolerance)) continue;
       gains[p] = lc.gain();
       if (best < 0 || gains[p] > gains[best]) best = p;
@@ -170,6 +209,10 @@ class Optimizer {
     if (scope && needed > static_cast<int>(run.pool.size())) return defer();
     std::array<index_t, max_flip_cells<D>> slots;
     apply_flip<D>(mesh_, plan, slots.data(), scope ? &run.pool : nullptr);
+    if (!facet_) {
+      if (cell_costs_.size() < static_cast<std::size_t>(mesh_.slot_count())) cell_costs_.resize(mesh_.slot_count());  // one region only
+      for (int k = 0; k < plan.inserted_count; ++k) cell_costs_[slots[k]] = inserted_costs[best][k];
+    }
     flips.add(plan.removed_count, plan.inserted_count);
     touch_around(slots.data(), plan, touch);
     return gains[best];
@@ -309,6 +352,7 @@ void run_phases(Optimizer<D>& opt, SimplexMesh<D>& mesh, long long size, const L
         }
         std::reverse(runs[r].pool.begin(), runs[r].pool.end());  // the lowest slot is taken first
       }
+      opt.reserve_cell_costs();
       if (phase == 0) opt.set_pending(initial);
       opt.pending_.resize(static_cast<std::size_t>(P) * mesh.slot_count(), 0);
       if (phase == 0) {
@@ -392,6 +436,7 @@ LawsonStats optimize_lawson(SimplexMesh<D>& mesh, const std::vector<float>& valu
     throw Error("optimize_lawson: " + std::to_string(values.size()) + " values for " +
                 std::to_string(mesh.points.size()) + " vertices and " + std::to_string(K) + " channels");
   Optimizer<D> opt(mesh, values, K, cost, options);
+  opt.init_cell_costs();
   LawsonStats stats;
   stats.flips.dimension = D;
   stats.cost_before = opt.total();

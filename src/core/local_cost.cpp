@@ -204,10 +204,32 @@ LocalCosts flip_costs(const SimplexMesh<D>& mesh, const float* values, int K, co
   return out;
 }
 
+template <int D>
+double cell_cost(const SimplexMesh<D>& mesh, const float* values, int K, const CostFunction& cost,
+                 const CellVertices<D>& ids) {
+  const Context<D> ctx{mesh, values, K, cost};
+  return simplex_cost<D>(ctx, ctx.field(ids));
+}
+
+template <int D>
+LocalCosts flip_costs(const SimplexMesh<D>& mesh, const float* values, int K, const CostFunction& cost,
+                      const FlipPlan<D>& plan, const double* removed_costs, double* inserted_costs) {
+  LocalCosts out;
+  for (int k = 0; k < plan.removed_count; ++k) out.before += removed_costs[k];
+  for (int k = 0; k < plan.inserted_count; ++k) {
+    inserted_costs[k] = cell_cost<D>(mesh, values, K, cost, plan.inserted[k]);
+    out.after += inserted_costs[k];
+  }
+  return out;
+}
+
 #define DDT_CORE_INSTANTIATE(D)                                                                                 \
   template double total_cost<D>(const SimplexMesh<D>&, const float*, int, const CostFunction&);                 \
   template LocalCosts flip_costs<D>(const SimplexMesh<D>&, const float*, int, const CostFunction&, \
-                                    const FlipPlan<D>&);
+                                    const FlipPlan<D>&);                                                        \
+  template LocalCosts flip_costs<D>(const SimplexMesh<D>&, const float*, int, const CostFunction&, \
+                                    const FlipPlan<D>&, const double*, double*);                                \
+  template double cell_cost<D>(const SimplexMesh<D>&, const float*, int, const CostFunction&, const CellVertices<D>&);
 DDT_CORE_INSTANTIATE(2)
 DDT_CORE_INSTANTIATE(3)
 DDT_CORE_INSTANTIATE(4)

@@ -51,4 +51,19 @@ template <int D>
 LocalCosts flip_costs(const SimplexMesh<D>& mesh, const float* values, int K, const CostFunction& cost,
                       const FlipPlan<D>& plan);
 
+// The simplex-weight form with the removed cells' costs given (cell_cost
+// of each, in plan.removed order) and the inserted ones' written to
+// inserted_costs: the same sums, bit for bit, as flip_costs, without
+// recomputing cells the caller has seen. Precondition: cost.form ==
+// CostForm::simplex_weight.
+template <int D>
+LocalCosts flip_costs(const SimplexMesh<D>& mesh, const float* values, int K, const CostFunction& cost,
+                      const FlipPlan<D>& plan, const double* removed_costs, double* inserted_costs);
+
+// content(s) * w(values at s's vertices), summed over the K channels' w:
+// one cell's term of the simplex-weight form.
+template <int D>
+double cell_cost(const SimplexMesh<D>& mesh, const float* values, int K, const CostFunction& cost,
+                 const CellVertices<D>& ids);
+
 }  // namespace ddt::core

@@ -120,9 +120,9 @@ inline bool on_lattice(double c, int fraction_bits, double bound) {
 
 // orient<D> by cofactor expansion in plain double (D <= 4): equal to
 // orient<D> when the points satisfy lattice_exact (tested), meaningless
-// otherwise.
+// otherwise. Inlined: the optimizer calls it for nearly every test.
 template <int D>
-int orient_lattice(const std::array<Vec<D>, D + 1>& p) {
+[[gnu::always_inline]] inline int orient_lattice(const std::array<Vec<D>, D + 1>& p) {
   static_assert(D >= 1 && D <= 4, "orient_lattice is written out for D <= 4");
   std::array<std::array<double, D>, D> m;
   for (int r = 0; r < D; ++r)
@@ -143,7 +143,7 @@ int orient_lattice(const std::array<Vec<D>, D + 1>& p) {
 
 // orient<D>, or orient_lattice<D> when the caller knows lattice_exact holds.
 template <int D>
-int orient(const std::array<Vec<D>, D + 1>& p, bool lattice) {
+[[gnu::always_inline]] inline int orient(const std::array<Vec<D>, D + 1>& p, bool lattice) {
   return lattice ? orient_lattice<D>(p) : orient<D>(p);
 }
 
