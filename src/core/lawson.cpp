@@ -263,6 +263,7 @@ class Optimizer {
     };
     using Key = std::array<index_t, D>;
     std::array<Key, cap*(P - D - 1 > 0 ? P - D - 1 : 1)> seen;
+    std::array<std::uint64_t, D == 3 ? cap * (P - D - 1) : 1> seen_edges;
     int n_seen = 0;
     for (int j = 0; j < n_cells; ++j) {
       const index_t c = cells[j];
@@ -274,6 +275,15 @@ class Optimizer {
       }
       for (int m = D + 1; m < P; ++m) {
         if ((holds_b & item_masks<D>[m]) == holds_b) continue;
+        if constexpr (D == 3) {  // the lower simplices are edges: a key of two ids in one word
+          const unsigned mask = item_masks<D>[m];
+          const index_t u = mesh_.vertex(c, std::countr_zero(mask)), v = mesh_.vertex(c, 31 - std::countl_zero(mask));
+          const std::uint64_t key = std::uint64_t(std::uint32_t(std::min(u, v))) << 32 | std::uint32_t(std::max(u, v));
+          if (std::find(seen_edges.begin(), seen_edges.begin() + n_seen, key) != seen_edges.begin() + n_seen) continue;
+          seen_edges[n_seen++] = key;
+          touch(P * c + m);
+          continue;
+        }
         Key key;  // the simplex's vertex ids, then sentinels (sorted last)
         key.fill(std::numeric_limits<index_t>::max());
         for (int i = 0, n = 0; i <= D; ++i)

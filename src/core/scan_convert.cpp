@@ -318,8 +318,11 @@ void cut(const Vec<D>* from, int n, int axis, double c, Section<D>& to) {
 }
 
 // Writes samples X0..X1 of a row, all owned by the cell. Channels: the
-// compile-time count (1: scalars) or 0 for scan.K.
-template <int D, int Channels>
+// compile-time count (1: scalars) or 0 for scan.K. Exact: the row's ends
+// come from the integer frame's exact fill rule, which gives a sample to
+// one cell only, so its ownership count needs no atomic add (cells on the
+// floating-point path can overlap and add atomically).
+template <int D, int Channels, bool Exact>
 void interpolate_row(const Scan<D>& scan, const CellSetup<D>& s, const double* z0, const double* dz, const Vec<D>& q,
                      std::size_t row_base, int X0, int X1) {
   const int K = Channels > 0 ? Channels : scan.K;
@@ -341,7 +344,10 @@ void interpolate_row(const Scan<D>& scan, const CellSetup<D>& s, const double* z
       for (int i = 1; i <= D; ++i) v += w[i] * dz[(i - 1) * K + c];
       o[c] = static_cast<float>(v);
     }
-    std::atomic_ref<unsigned char>(scan.hits[idx]).fetch_add(1, std::memory_order_relaxed);
+    if constexpr (Exact)  // the exact fill rule gives every sample one owner
+      ++scan.hits[idx];
+    else
+      std::atomic_ref<unsigned char>(scan.hits[idx]).fetch_add(1, std::memory_order_relaxed);
   }
 }
 
@@ -380,9 +386,9 @@ void scan_row(const Scan<D>& scan, const CellSetup<D>& s, const double* z0, cons
   }
   if (X0 > X1) return;
   if (scan.K == 1)
-    interpolate_row<D, 1>(scan, s, z0, dz, q, row_base, X0, X1);
+    interpolate_row<D, 1, false>(scan, s, z0, dz, q, row_base, X0, X1);
   else
-    interpolate_row<D, 0>(scan, s, z0, dz, q, row_base, X0, X1);
+    interpolate_row<D, 0, false>(scan, s, z0, dz, q, row_base, X0, X1);
 }
 
 // scan_row in the integer frame: the side of facet i at sample xb0 + t is
@@ -423,9 +429,9 @@ void scan_row_exact(const Scan<D>& scan, const CellSetup<D>& s, const IntegerCel
   if (t_lo > t_hi) return;
   const int X0 = xb0 + static_cast<int>(t_lo), X1 = xb0 + static_cast<int>(t_hi);
   if (scan.K == 1)
-    interpolate_row<D, 1>(scan, s, z0, dz, q, row_base, X0, X1);
+    interpolate_row<D, 1, true>(scan, s, z0, dz, q, row_base, X0, X1);
   else
-    interpolate_row<D, 0>(scan, s, z0, dz, q, row_base, X0, X1);
+    interpolate_row<D, 0, true>(scan, s, z0, dz, q, row_base, X0, X1);
 }
 
 // The samples along axis L (>= 1) of the section `sec` (the vertices for
@@ -614,7 +620,6 @@ std::vector<float> scan_convert(const SimplexMesh<D>& mesh, const std::vector<fl
     index[slowest] = Z;
     for (std::size_t j = 0; j < per_slice; ++j) {
       const std::size_t idx = Z * per_slice + j;
-      for (int k = 0, rest = static_cast<int>(j); k < slowest; ++k) index[k] = rest % grid.size[k], rest /= grid.size[k];
       if (hits[idx] == 1) {
         ++n_owned;
         continue;
@@ -623,6 +628,7 @@ std::vector<float> scan_convert(const SimplexMesh<D>& mesh, const std::vector<fl
         ++n_over;
         continue;
       }
+      for (int k = 0, rest = static_cast<int>(j); k < slowest; ++k) index[k] = rest % grid.size[k], rest /= grid.size[k];
       int which = -1;
       for (int axis = 0; axis < D && which < 0; ++axis) {
         const double x = coord[axis][index[axis]];
