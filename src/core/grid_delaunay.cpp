@@ -1,6 +1,7 @@
 #include "core/grid_delaunay.hpp"
 
 #include "core/delaunay.hpp"
+#include "util/prefaulted_image.hpp"
 
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
@@ -109,7 +110,7 @@ SimplexMesh<D> grid_delaunay(const std::array<int, D>& size) {
     }
     return static_cast<index_t>(base);
   };
-  std::vector<Record> records(n_cubes * T);
+  std::vector<Record> records = prefaulted_zeros<Record>(n_cubes * T);
   tbb::parallel_for(std::size_t(0), n_cubes, [&](std::size_t c) {
     const index_t base = cube_base(c);
     for (int p = 0; p < T; ++p) {
@@ -120,15 +121,15 @@ SimplexMesh<D> grid_delaunay(const std::array<int, D>& size) {
     }
   });
   tbb::parallel_sort(records.begin(), records.end(), [](const Record& a, const Record& b) { return a.ids < b.ids; });
-  std::vector<index_t> slot_of(n_cubes * T);
+  std::vector<index_t> slot_of = prefaulted_zeros<index_t>(n_cubes * T);
   tbb::parallel_for(std::size_t(0), records.size(), [&](std::size_t t) {
     slot_of[static_cast<std::size_t>(records[t].cube) * T + records[t].p] = static_cast<index_t>(t);
   });
 
   SimplexMesh<D> mesh;
   mesh.points = std::move(points);
-  mesh.cell.resize((D + 1) * records.size());
-  mesh.opp.resize((D + 1) * records.size());
+  mesh.cell = prefaulted_zeros<index_t>((D + 1) * records.size());
+  mesh.opp = prefaulted_zeros<index_t>((D + 1) * records.size());
   tbb::parallel_for(std::size_t(0), records.size(), [&](std::size_t t) {
     const Record& r = records[t];
     const std::size_t c = r.cube;

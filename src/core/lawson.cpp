@@ -3,6 +3,7 @@
 #include "core/predicates.hpp"
 #include "core/schedule.hpp"
 #include "util/error.hpp"
+#include "util/prefaulted_image.hpp"
 
 #include <tbb/parallel_for.h>
 
@@ -64,7 +65,7 @@ class Optimizer {
   // of its star (when the star is small enough to flip).
   std::vector<std::uint32_t> initial_items() const {
     const index_t n = mesh_.slot_count();
-    std::vector<std::uint32_t> mask(n, 0);
+    std::vector<std::uint32_t> mask = prefaulted_zeros<std::uint32_t>(n);
     tbb::parallel_for(index_t(0), n, [&](index_t c) {
       if (!mesh_.is_live(c)) return;
       std::uint32_t m = 0;
@@ -124,7 +125,7 @@ class Optimizer {
   // computes only the cells a flip would insert.
   void init_cell_costs() {
     if (facet_) return;
-    cell_costs_.assign(mesh_.slot_count(), 0.0);
+    cell_costs_ = prefaulted_zeros<double>(mesh_.slot_count());
     tbb::parallel_for(index_t(0), mesh_.slot_count(), [&](index_t c) {
       if (mesh_.is_live(c)) cell_costs_[c] = cell_cost<D>(mesh_, z_, K_, cost_, mesh_.cell_vertices(c));
     });
@@ -154,7 +155,7 @@ class Optimizer {
 
   // Flags the items of the first List_active as pending.
   void set_pending(const std::vector<std::uint32_t>& initial) {
-    pending_.assign(static_cast<std::size_t>(P) * mesh_.slot_count(), 0);
+    pending_ = prefaulted_zeros<char>(static_cast<std::size_t>(P) * mesh_.slot_count());
     tbb::parallel_for(index_t(0), static_cast<index_t>(initial.size()), [&](index_t c) {
       for (std::uint32_t m = initial[c]; m; m &= m - 1) pending_[P * c + std::countr_zero(m)] = 1;
     });

@@ -2,6 +2,7 @@
 
 #include "core/predicates.hpp"
 #include "util/error.hpp"
+#include "util/prefaulted_image.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -565,8 +566,8 @@ std::vector<float> scan_convert(const SimplexMesh<D>& mesh, const std::vector<fl
     magnitude += std::abs(lo[k]);
   }
   const std::size_t count = grid.count();
-  std::vector<float> out(count * K, 0.0f);
-  std::vector<unsigned char> hits(count, 0);
+  std::vector<float> out = prefaulted_zeros<float>(count * K);
+  std::vector<unsigned char> hits = prefaulted_zeros<unsigned char>(count);
   const IntegerFrame<D> frame = integer_frame<D>(mesh.points, grid);
   const Scan<D> scan{grid, coord, stride, 1e-9 * (extent + magnitude), lattice_exact<D>(mesh.points), K,
                      out.data(), hits.data(), frame};

@@ -11,9 +11,23 @@
 
 #include "util/image.hpp"
 
+#include <cstddef>
 #include <future>
+#include <vector>
 
 namespace ddt {
+
+// Reserves n elements, maps their whole pages in one call, then value-
+// initializes them (zeros written into pages already mapped).
+void populate_pages(const void* data, std::size_t bytes);
+template <class T>
+std::vector<T> prefaulted_zeros(std::size_t n) {
+  std::vector<T> v;
+  v.reserve(n);
+  populate_pages(v.data(), n * sizeof(T));
+  v.resize(n);
+  return v;
+}
 
 Image prefaulted_image(int width, int height, int channels);
 std::future<Image> prefaulted_image_async(int width, int height, int channels);
