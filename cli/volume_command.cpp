@@ -79,7 +79,7 @@ double volume_job_bytes(const std::string& method, std::size_t compares, double 
 
 int run_volume_upscale(int argc, char** argv) {
   std::string input, output, size_spec, method = "ddt", cost = "variance", picture, type = "same",
-                                        encoding = "same";
+                                        encoding = "same", render = "cubic", slopes = "mc4";
   double scale = 0, tolerance = 1e-9, iso = NAN;
   std::vector<std::string> compare;
   long long max_voxels = ddt::default_max_voxels;
@@ -89,7 +89,8 @@ int run_volume_upscale(int argc, char** argv) {
   CLI::App app{"ddtscale (volumes): enlarge a NRRD volume (scalar, RGB or vector) by data-dependent tetrahedrization.\n"
                "The voxels become a 3D scalar field, tetrahedrized (Delaunay, then bistellar 2-3, 3-2, 4-4 and\n"
                "hull 2-2 flips that lower the weighted content of the paper's cost) so that long thin\n"
-               "tetrahedra follow surfaces; the piecewise-linear field is scan-converted at the new size.",
+               "tetrahedra follow surfaces; the field on them (cubic, or the paper's linear) is scan-converted at the\n"
+               "new size.",
                "ddtscale"};
   app.add_option("input", input, "input volume (.nrrd or .nhdr; raw, gzip, ...; 8/16/32-bit integer or float; "
                  "channels on a leading non-spatial axis: kind vector, RGB-color, 3-vector, ...)")
@@ -102,6 +103,14 @@ int run_volume_upscale(int argc, char** argv) {
       ->check(CLI::IsMember(ddt::volume_upscale_methods()))
       ->capture_default_str();
   app.add_option("--cost", cost, "flip cost: " + ddt::cost_names_joined())->capture_default_str();
+  app.add_option("--render", render,
+                 "field drawn on the tetrahedra (ddt, delaunay): cubic (a cubic Bézier tetrahedron from the values "
+                 "and limited slopes at its vertices, default) or linear (the paper's)")
+      ->check(CLI::IsMember(ddt::render_names()))
+      ->capture_default_str();
+  app.add_option("--slopes", slopes, "cubic render: slope limiter of the vertex gradients: mc4, mc, central, minmod")
+      ->check(CLI::IsMember(ddt::slope_limiter_names()))
+      ->capture_default_str();
   app.add_option("--compare", compare,
                  "also write the volume enlarged by this method beside the output (out.METHOD.nrrd): "
                  "trilinear, tricubic (comma-separated for both)")
@@ -212,6 +221,8 @@ int run_volume_upscale(int argc, char** argv) {
     options.method = method;
     options.cost = cost;
     options.relative_tolerance = tolerance;
+    options.render = ddt::render_by_name(render);
+    options.slopes = ddt::slope_limiter_by_name(slopes);
     if (verbose) options.log = log;
     ddt::VolumeUpscaleStats stats;
     const ddt::Volume result = ddt::upscale_volume(src, out[0], out[1], out[2], options, &stats);

@@ -159,6 +159,8 @@ py::dict volume_defaults() {
   py::dict d;
   d["method"] = c.options.method;
   d["cost"] = c.options.cost;
+  d["render"] = ddt::to_string(c.options.render);
+  d["slopes"] = ddt::to_string(c.options.slopes);
   d["tolerance"] = c.options.relative_tolerance;
   d["max_voxels"] = c.max_voxels;
   d["verbose"] = c.verbose;
@@ -175,6 +177,9 @@ VolumeCall volume_call(const py::dict& kwargs) {
     throw ddt::Error("--method must be one of ddt, delaunay, trilinear, tricubic, not '" + c.options.method + "'");
   k.get("cost", c.options.cost);
   ddt::find_cost(c.options.cost);
+  std::string name;
+  if (k.get("render", name)) c.options.render = ddt::render_by_name(name);
+  if (k.get("slopes", name)) c.options.slopes = ddt::slope_limiter_by_name(name);
   k.get("tolerance", c.options.relative_tolerance);
   check_unit_range(c.options.relative_tolerance, "--tolerance");
   k.get("max_voxels", c.max_voxels);

@@ -103,6 +103,13 @@ run_ok "one thread" "$work/h48.nrrd" "$work/h48_1.nrrd" --scale 2 --threads 1
 run_ok "two threads" "$work/h48.nrrd" "$work/h48_2.nrrd" --scale 2 --threads 2
 cmp -s "$work/h48_1.nrrd" "$work/h48_2.nrrd" && ok || bad "--threads 1 and 2 gave different volumes"
 run_fail "zero threads" "$work/s.nrrd" "$work/o.nrrd" --scale 2 --threads 0
+# The render: cubic by default, linear on request (the same mesh, another field).
+run_ok "render linear" "$work/h48.nrrd" "$work/h48_linear.nrrd" --scale 2 --render linear
+run_ok "render cubic" "$work/h48.nrrd" "$work/h48_cubic.nrrd" --scale 2 --render cubic --slopes mc4
+cmp -s "$work/h48_1.nrrd" "$work/h48_cubic.nrrd" && ok || bad "the default render is not --render cubic"
+cmp -s "$work/h48_1.nrrd" "$work/h48_linear.nrrd" && bad "--render linear gave the cubic volume" || ok
+run_fail "unknown render" "$work/s.nrrd" "$work/o.nrrd" --scale 2 --render quintic
+run_fail "unknown slopes" "$work/s.nrrd" "$work/o.nrrd" --scale 2 --slopes steep
 run_fail "bad size" "$work/s.nrrd" "$work/o.nrrd" --size 4x4
 run_fail "too many voxels" "$work/s.nrrd" "$work/o.nrrd" --scale 100 --max-voxels 1000
 run_fail "output is input" "$work/s.nrrd" "$work/s.nrrd" --scale 2

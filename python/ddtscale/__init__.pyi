@@ -61,6 +61,8 @@ def upscale_volume(
     *,
     method: Literal["ddt", "delaunay", "trilinear", "tricubic"] = ...,
     cost: str = ...,
+    render: Literal["cubic", "linear"] = ...,
+    slopes: Literal["mc4", "mc", "central", "minmod"] = ...,
     tolerance: float = ...,
     max_voxels: int = ...,
     verbose: bool = ...,

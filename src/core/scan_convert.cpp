@@ -77,7 +77,9 @@ struct CellSetup {
   std::array<double, D + 1> den;  // raw[i] . (p_i - p_0), i >= 1
   std::array<double, D + 1> inv_axis0;  // 1 / unit[i][0], 0 when the facet is parallel to the rows
   Vec<D> lo, hi;                  // bounding box
+  const double* patch = nullptr;  // the cubic render: K blocks of cubic_controls<D> values; null: linear
 };
+
 
 // The cofactor normal of facet i (opposite vertex i) of a positive cell,
 // pointing towards vertex i; in double or in integers (the integer frame).
@@ -340,10 +342,16 @@ void interpolate_row(const Scan<D>& scan, const CellSetup<D>& s, const double* z
     }
     const std::size_t idx = row_base + X;
     float* o = scan.out + idx * K;
-    for (int c = 0; c < K; ++c) {
-      double v = z0[c];
-      for (int i = 1; i <= D; ++i) v += w[i] * dz[(i - 1) * K + c];
-      o[c] = static_cast<float>(v);
+    if (s.patch) {
+      w[0] = 1;
+      for (int i = 1; i <= D; ++i) w[0] -= w[i];
+      for (int c = 0; c < K; ++c) o[c] = static_cast<float>(eval_cubic<D>(s.patch + c * cubic_controls<D>, w));
+    } else {
+      for (int c = 0; c < K; ++c) {
+        double v = z0[c];
+        for (int i = 1; i <= D; ++i) v += w[i] * dz[(i - 1) * K + c];
+        o[c] = static_cast<float>(v);
+      }
     }
     if constexpr (Exact)  // the exact fill rule gives every sample one owner
       ++scan.hits[idx];
@@ -470,7 +478,8 @@ void scan_level(const Scan<D>& scan, const CellSetup<D>& s, const IntegerCell<D>
 // each as the field of its hull facets over the window's in-plane samples.
 template <int D>
 std::vector<std::vector<float>> render_box_faces(const SimplexMesh<D>& mesh, const std::vector<float>& values, int K,
-                                                 const ScanGrid<D>& grid, const Vec<D>& lo, const Vec<D>& hi) {
+                                                 const ScanGrid<D>& grid, const Vec<D>& lo, const Vec<D>& hi,
+                                                 const std::vector<float>* gradients) {
   std::vector<std::vector<float>> faces(2 * D);
   if constexpr (D == 1) {
     // The faces of a segment's box are its end points: their values.
@@ -505,7 +514,7 @@ std::vector<std::vector<float>> render_box_faces(const SimplexMesh<D>& mesh, con
       if (facets[which].empty()) throw Error("scan_convert: the mesh's hull is not an axis-aligned box");
       std::map<index_t, index_t> local;
       std::vector<Vec<D - 1>> points;
-      std::vector<float> face_values;
+      std::vector<float> face_values, face_gradients;  // the gradients' in-plane components
       for (CellVertices<D - 1>& f : facets[which])
         for (index_t& id : f) {
           auto [it, fresh] = local.emplace(id, static_cast<index_t>(points.size()));
@@ -516,6 +525,10 @@ std::vector<std::vector<float>> render_box_faces(const SimplexMesh<D>& mesh, con
             points.push_back(p);
             face_values.insert(face_values.end(), values.begin() + static_cast<std::ptrdiff_t>(id) * K,
                                values.begin() + static_cast<std::ptrdiff_t>(id + 1) * K);
+            if (gradients)
+              for (int c = 0; c < K; ++c)
+                for (int k = 0; k < D; ++k)
+                  if (k != axis) face_gradients.push_back((*gradients)[(static_cast<std::size_t>(id) * K + c) * D + k]);
           }
           id = it->second;
         }
@@ -523,7 +536,7 @@ std::vector<std::vector<float>> render_box_faces(const SimplexMesh<D>& mesh, con
       ScanGrid<D - 1> g;
       for (int k = 0, n = 0; k < D; ++k)
         if (k != axis) g.size[n] = grid.size[k], g.scale[n] = grid.scale[k], g.first[n] = grid.first[k], ++n;
-      faces[which] = scan_convert<D - 1>(face, face_values, K, g);
+      faces[which] = scan_convert<D - 1>(face, face_values, K, g, nullptr, gradients ? &face_gradients : nullptr);
     }
   }
   return faces;
@@ -533,10 +546,12 @@ std::vector<std::vector<float>> render_box_faces(const SimplexMesh<D>& mesh, con
 
 template <int D>
 std::vector<float> scan_convert(const SimplexMesh<D>& mesh, const std::vector<float>& values, int K,
-                                const ScanGrid<D>& grid, ScanStats* stats) {
+                                const ScanGrid<D>& grid, ScanStats* stats, const std::vector<float>* gradients) {
   if (K < 1) throw Error("scan_convert: at least one channel is needed");
   if (values.size() != mesh.points.size() * static_cast<std::size_t>(K))
     throw Error("scan_convert: the values do not match the mesh's points and channels");
+  if (gradients && gradients->size() != values.size() * D)
+    throw Error("scan_convert: the gradients do not match the mesh's points and channels");
   if (mesh.cell_count() == 0) throw Error("scan_convert: the mesh has no cells");
   for (int k = 0; k < D; ++k)
     if (grid.size[k] < 0 || !(grid.scale[k] > 0)) throw Error("scan_convert: bad grid");
@@ -553,7 +568,7 @@ std::vector<float> scan_convert(const SimplexMesh<D>& mesh, const std::vector<fl
         lo[k] = std::min(lo[k], x), hi[k] = std::max(hi[k], x);
       }
   }
-  const std::vector<std::vector<float>> faces = render_box_faces<D>(mesh, values, K, grid, lo, hi);
+  const std::vector<std::vector<float>> faces = render_box_faces<D>(mesh, values, K, grid, lo, hi, gradients);
 
   std::array<std::vector<double>, D> coord;
   std::array<std::size_t, D> stride;
@@ -575,6 +590,7 @@ std::vector<float> scan_convert(const SimplexMesh<D>& mesh, const std::vector<fl
   if (count > 0)
     tbb::parallel_for(tbb::blocked_range<index_t>(0, mesh.slot_count(), 256), [&](const tbb::blocked_range<index_t>& r) {
       std::vector<double> z0(K), dz(static_cast<std::size_t>(D) * K);
+      std::vector<double> patch(gradients ? static_cast<std::size_t>(K) * cubic_controls<D> : 0);
       for (index_t c = r.begin(); c != r.end(); ++c) {
         if (!mesh.is_live(c)) continue;
         CellSetup<D> s;
@@ -597,6 +613,18 @@ std::vector<float> scan_convert(const SimplexMesh<D>& mesh, const std::vector<fl
           z0[ch] = values[static_cast<std::size_t>(mesh.vertex(c, 0)) * K + ch];
           for (int i = 1; i <= D; ++i)
             dz[(i - 1) * K + ch] = double(values[static_cast<std::size_t>(mesh.vertex(c, i)) * K + ch]) - z0[ch];
+        }
+        if (gradients) {
+          for (int ch = 0; ch < K; ++ch) {
+            double z[D + 1], g[(D + 1) * D];
+            for (int i = 0; i <= D; ++i) {
+              const std::size_t at = static_cast<std::size_t>(mesh.vertex(c, i)) * K + ch;
+              z[i] = values[at];
+              for (int k = 0; k < D; ++k) g[i * D + k] = (*gradients)[at * D + k];
+            }
+            cubic_patch<D>(s.p, z, g, patch.data() + ch * cubic_controls<D>);
+          }
+          s.patch = patch.data();
         }
         Vec<D> q{};
         if constexpr (D == 1) {
@@ -676,13 +704,61 @@ std::vector<float> scan_convert(const SimplexMesh<D>& mesh, const std::vector<fl
   return out;
 }
 
+template <int D>
+void cubic_patch(const std::array<Vec<D>, D + 1>& p, const double* z, const double* g, double* b) {
+  for (int i = 0; i <= D; ++i) {
+    b[i] = z[i];
+    for (int j = 0; j <= D; ++j) {
+      if (j == i) continue;
+      double along = 0;
+      for (int k = 0; k < D; ++k) along += g[i * D + k] * (p[j][k] - p[i][k]);
+      b[pair_control<D>(i, j)] = z[i] + along / 3.0;
+    }
+  }
+  int t = (D + 1) + (D + 1) * D;
+  for (int i = 0; i <= D; ++i)
+    for (int j = i + 1; j <= D; ++j)
+      for (int k = j + 1; k <= D; ++k) {
+        const double edge_mean = (b[pair_control<D>(i, j)] + b[pair_control<D>(j, i)] + b[pair_control<D>(j, k)] +
+                                  b[pair_control<D>(k, j)] + b[pair_control<D>(k, i)] + b[pair_control<D>(i, k)]) /
+                                 6.0;
+        const double vertex_mean = (z[i] + z[j] + z[k]) / 3.0;
+        b[t++] = edge_mean + 0.5 * (edge_mean - vertex_mean);
+      }
+}
+
+template <int D>
+double eval_cubic(const double* b, const double* w) {
+  double v = 0;
+  for (int i = 0; i <= D; ++i) {
+    const double wi2 = w[i] * w[i];
+    v += b[i] * wi2 * w[i];
+    for (int j = 0; j <= D; ++j)
+      if (j != i) v += 3 * b[pair_control<D>(i, j)] * wi2 * w[j];
+  }
+  int t = (D + 1) + (D + 1) * D;
+  for (int i = 0; i <= D; ++i)
+    for (int j = i + 1; j <= D; ++j)
+      for (int k = j + 1; k <= D; ++k) v += 6 * b[t++] * w[i] * w[j] * w[k];
+  return v;
+}
+
 template std::vector<float> scan_convert<1>(const SimplexMesh<1>&, const std::vector<float>&, int, const ScanGrid<1>&,
-                                            ScanStats*);
+                                            ScanStats*, const std::vector<float>*);
 template std::vector<float> scan_convert<2>(const SimplexMesh<2>&, const std::vector<float>&, int, const ScanGrid<2>&,
-                                            ScanStats*);
+                                            ScanStats*, const std::vector<float>*);
 template std::vector<float> scan_convert<3>(const SimplexMesh<3>&, const std::vector<float>&, int, const ScanGrid<3>&,
-                                            ScanStats*);
+                                            ScanStats*, const std::vector<float>*);
 template std::vector<float> scan_convert<4>(const SimplexMesh<4>&, const std::vector<float>&, int, const ScanGrid<4>&,
-                                            ScanStats*);
+                                            ScanStats*, const std::vector<float>*);
+
+template void cubic_patch<1>(const std::array<Vec<1>, 2>&, const double*, const double*, double*);
+template double eval_cubic<1>(const double*, const double*);
+template void cubic_patch<2>(const std::array<Vec<2>, 3>&, const double*, const double*, double*);
+template double eval_cubic<2>(const double*, const double*);
+template void cubic_patch<3>(const std::array<Vec<3>, 4>&, const double*, const double*, double*);
+template double eval_cubic<3>(const double*, const double*);
+template void cubic_patch<4>(const std::array<Vec<4>, 5>&, const double*, const double*, double*);
+template double eval_cubic<4>(const double*, const double*);
 
 }  // namespace ddt::core

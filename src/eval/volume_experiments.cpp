@@ -16,12 +16,21 @@
 namespace ddt {
 namespace {
 
-// "ddt:sederberg" -> method "ddt", cost "sederberg"; "ddt" -> cost variance.
+// "ddt:sederberg" -> method "ddt", cost "sederberg"; "ddt" -> cost variance;
+// "ddt-linear", "delaunay-linear": the paper's linear render ("-cubic": the
+// default, named).
 VolumeUpscaleOptions options_for(const std::string& spec) {
   VolumeUpscaleOptions o;
   const auto colon = spec.find(':');
   o.method = spec.substr(0, colon);
   if (colon != std::string::npos) o.cost = spec.substr(colon + 1);
+  for (const Render render : {Render::linear, Render::cubic}) {
+    const std::string suffix = std::string("-") + to_string(render);
+    if (o.method.size() > suffix.size() && o.method.ends_with(suffix)) {
+      o.method.resize(o.method.size() - suffix.size());
+      o.render = render;
+    }
+  }
   return o;
 }
 

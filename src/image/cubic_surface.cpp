@@ -14,7 +14,8 @@ double minmod(double a, double b) {
   return std::abs(a) < std::abs(b) ? a : b;
 }
 
-// z[-2..2] around the sample; has[-2..2] whether each exists.
+}  // namespace
+
 double limited_slope(const double z[5], const bool has[5], SlopeLimiter limiter) {
   if (!has[1] && !has[3]) return 0;
   if (!has[1]) return z[3] - z[2];
@@ -32,8 +33,6 @@ double limited_slope(const double z[5], const bool has[5], SlopeLimiter limiter)
   }
   return 0;
 }
-
-}  // namespace
 
 std::vector<float> grid_gradients(const Image& src, SlopeLimiter limiter) {
   const int W = src.width, H = src.height, C = src.channels;

@@ -28,6 +28,10 @@
 
 namespace ddt {
 
+// The limited slope at z[2] of five samples z[-2..2] along one axis;
+// has[k]: whether z[k] exists (the grid's border).
+double limited_slope(const double z[5], const bool has[5], SlopeLimiter limiter);
+
 // Per-pixel gradients of every channel: #pixels by C by 2 (d/dx, d/dy), row-major.
 std::vector<float> grid_gradients(const Image& src, SlopeLimiter limiter);
 

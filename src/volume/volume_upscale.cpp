@@ -6,6 +6,9 @@
 #include "core/scan_convert.hpp"
 #include "pipeline/upscale.hpp"
 #include "eval/volume_resample.hpp"
+#include "image/cubic_surface.hpp"
+
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -54,6 +57,29 @@ Volume upscale_planar(const Volume& src, const int out[3], const VolumeUpscaleOp
 }
 
 }  // namespace
+
+std::vector<float> volume_gradients(const Volume& volume, SlopeLimiter limiter) {
+  const int C = volume.channels;
+  const int n[3] = {volume.nx, volume.ny, volume.nz};
+  std::vector<float> g(volume.voxels.size() * 3, 0.0f);
+  tbb::parallel_for(0, volume.nz, [&](int z) {
+    for (int y = 0; y < volume.ny; ++y)
+      for (int x = 0; x < volume.nx; ++x)
+        for (int c = 0; c < C; ++c)
+          for (int axis = 0; axis < 3; ++axis) {
+            double v[5];
+            bool has[5];
+            for (int k = -2; k <= 2; ++k) {
+              int at[3] = {x, y, z};
+              at[axis] += k;
+              has[k + 2] = at[axis] >= 0 && at[axis] < n[axis];
+              v[k + 2] = has[k + 2] ? volume.at(at[0], at[1], at[2], c) : 0.0;
+            }
+            g[(volume.index(x, y, z) * C + c) * 3 + axis] = static_cast<float>(limited_slope(v, has, limiter));
+          }
+  });
+  return g;
+}
 
 int volume_region_slices(int nx, int ny, int nz) {
   const long long cells_per_slice = 6LL * std::max(1, nx - 1) * std::max(1, ny - 1);  // 6 per cube
@@ -136,10 +162,13 @@ Volume upscale_volume(const Volume& src, int nx, int ny, int nz, const VolumeUps
   core::ScanStats rs;
   Volume out;
   out.nx = nx, out.ny = ny, out.nz = nz, out.channels = src.channels;
+  const bool cubic = options.render == Render::cubic;
+  const std::vector<float> gradients = cubic ? volume_gradients(src, options.slopes) : std::vector<float>{};
   out.voxels = core::scan_convert<3>(mesh, src.voxels, src.channels,
-                                     core::ScanGrid<3>::whole({src.nx, src.ny, src.nz}, {nx, ny, nz}), &rs);
+                                     core::ScanGrid<3>::whole({src.nx, src.ny, src.nz}, {nx, ny, nz}), &rs,
+                                     cubic ? &gradients : nullptr);
   local.seconds_render = seconds_since(t0);
-  log("render: " + std::to_string(nx) + "x" + std::to_string(ny) + "x" + std::to_string(nz) + ", " +
+  log(std::string("render (") + to_string(options.render) + "): " + std::to_string(nx) + "x" + std::to_string(ny) + "x" + std::to_string(nz) + ", " +
       std::to_string(rs.owned) + " voxels in tetrahedra + " + std::to_string(rs.rim) + " on the hull rim, " +
       std::to_string(local.seconds_render) + " s");
   if (stats) *stats = local;

@@ -8,8 +8,10 @@
 // flips, on the dimension-generic core with its parallel slab schedule
 // (core/lawson.hpp), driven by all channels at once (one mesh; the costs
 // sum over channels, at most core::max_cost_channels) -> scan conversion of
-// the piecewise-linear field of every channel at the output resolution
-// (core/scan_convert.hpp). The classic resamplers work channel by channel.
+// the field of every channel at the output resolution (core/scan_convert.hpp):
+// by default a cubic Bézier tetrahedron per cell from the values and limited
+// slopes at its vertices, or the paper's piecewise-linear field. The
+// classic resamplers work channel by channel.
 //
 // Output voxel (X, Y, Z) samples the field at ((X + 0.5) / sx, ...), with
 // s = n_out / n_in per axis; outside the samples' hull (the half-voxel rim)
@@ -25,6 +27,7 @@
 // Errors: throws ddt::Error (empty volume, bad size, unknown method or cost).
 
 #include "core/lawson.hpp"
+#include "ddtscale/options.hpp"
 #include "pipeline/stages.hpp"
 #include "volume/volume.hpp"
 
@@ -42,8 +45,18 @@ struct VolumeUpscaleOptions {
   // Input slices per slab of the parallel schedule; 0: volume_region_slices.
   // The output depends on it, never on the number of threads.
   int region_slices = 0;
+  // "ddt" and "delaunay": the field drawn, cubic (core/scan_convert.hpp: a
+  // cubic Bézier tetrahedron from the values and limited grid slopes at its
+  // vertices, as images' cubic render) or linear per tetrahedron (the
+  // paper's).
+  Render render = Render::cubic;
+  SlopeLimiter slopes = SlopeLimiter::mc4;
   std::function<void(const std::string&)> log;  // verbose lines; may be empty
 };
+
+// Per voxel and channel the limited slope along x, y, z (#voxels by C by 3,
+// voxel spacing 1), image/cubic_surface.hpp's limiter on each axis.
+std::vector<float> volume_gradients(const Volume& volume, SlopeLimiter limiter);
 
 // The stage seconds and the optimizer's summary (flips by kind;
 // pipeline/stages.hpp), and what is the volumes' own.

@@ -102,6 +102,124 @@ TEST_CASE_TEMPLATE("core scan_convert: a linear field (2 channels) is reproduced
   }
 }
 
+// A quadratic function of the position (per channel) and its gradient.
+template <int D>
+double quadratic(const Vec<D>& p, int channel) {
+  double v = linear<D>(p, channel);
+  for (int k = 0; k < D; ++k)
+    for (int l = k; l < D; ++l) v += (channel == 0 ? 0.013 * (k + 1) - 0.004 * l : -0.009 + 0.006 * (k + l)) * p[k] * p[l];
+  return v;
+}
+template <int D>
+double quadratic_slope(const Vec<D>& p, int channel, int axis) {
+  const double h = 1e-3;  // central differences are exact for quadratics (to rounding)
+  Vec<D> a = p, b = p;
+  a[axis] -= h, b[axis] += h;
+  return (quadratic<D>(b, channel) - quadratic<D>(a, channel)) / (2 * h);
+}
+
+TEST_CASE_TEMPLATE("core scan_convert, cubic: a quadratic field with exact vertex gradients is reproduced inside the hull "
+                   "and on the clamped rim, on scrambled meshes",
+                   T, Dim<2>, Dim<3>, Dim<4>) {
+  constexpr int D = T::value;
+  const std::array<int, D> n = small_grid<D>();
+  SimplexMesh<D> mesh = grid_delaunay<D>(n);
+  scramble<D>(mesh, D == 4 ? 150 : 300, 7);
+  REQUIRE(check_mesh<D>(mesh) == "");
+  std::vector<float> values, gradients;
+  for (const Vec<D>& p : mesh.points)
+    for (int c = 0; c < 2; ++c) {
+      values.push_back(static_cast<float>(quadratic<D>(p, c)));
+      for (int k = 0; k < D; ++k) gradients.push_back(static_cast<float>(quadratic_slope<D>(p, c, k)));
+    }
+  for (const double s : {2.5, 4.0}) {
+    CAPTURE(s);
+    const ScanGrid<D> g = scaled<D>(n, s);
+    ScanStats st;
+    const std::vector<float> out = scan_convert<D>(mesh, values, 2, g, &st, &gradients);
+    const std::vector<float> flat = scan_convert<D>(mesh, values, 2, g);
+    CHECK(st.owned + st.rim == static_cast<long long>(g.count()));
+    double worst = 0, worst_linear = 0;
+    for (std::size_t idx = 0; idx < g.count(); ++idx) {
+      const std::array<int, D> I = unflatten<D>(idx, g);
+      Vec<D> p;
+      for (int k = 0; k < D; ++k) p[k] = std::clamp((I[k] + 0.5) / g.scale[k], 0.5, n[k] - 0.5);
+      for (int c = 0; c < 2; ++c) {
+        worst = std::max(worst, std::abs(out[2 * idx + c] - quadratic<D>(p, c)));
+        worst_linear = std::max(worst_linear, std::abs(flat[2 * idx + c] - quadratic<D>(p, c)));
+      }
+    }
+    CHECK(worst < 2e-5);
+    CHECK(worst_linear > 1e-3);  // the linear render cannot: the check above tests the patch
+  }
+}
+
+TEST_CASE_TEMPLATE("core scan_convert, cubic: input samples are kept and patches meet continuously across facets",
+                   T, Dim<2>, Dim<3>, Dim<4>) {
+  constexpr int D = T::value;
+  std::array<int, D> n;
+  n.fill(5);
+  SimplexMesh<D> mesh = grid_delaunay<D>(n);
+  scramble<D>(mesh, 200, 11);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::vector<float> values(mesh.points.size()), gradients(mesh.points.size() * D);
+  for (float& v : values) v = u(rng);
+  for (float& v : gradients) v = u(rng);
+  // x3: output samples on the input samples, which must keep their values.
+  const ScanGrid<D> g3 = scaled<D>(n, 3);
+  const std::vector<float> out3 = scan_convert<D>(mesh, values, 1, g3, nullptr, &gradients);
+  double kept = 0;
+  for (std::size_t id = 0; id < mesh.points.size(); ++id) {
+    std::size_t idx = 0;
+    for (int k = D - 1; k >= 0; --k) idx = idx * g3.size[k] + static_cast<std::size_t>(3 * (mesh.points[id][k] - 0.5) + 1);
+    kept = std::max(kept, std::abs(double(out3[idx]) - values[id]));
+  }
+  CHECK(kept < 1e-6);
+  // Continuity: at random points of every interior facet the patches of
+  // the two cells sharing it agree (each cell with its own vertex order).
+  auto patch_of = [&](index_t c, std::array<double, cubic_controls<D>>& b) {
+    std::array<Vec<D>, D + 1> p;
+    double z[D + 1], grad[(D + 1) * D];
+    for (int i = 0; i <= D; ++i) {
+      const index_t v = mesh.vertex(c, i);
+      p[i] = mesh.points[v];
+      z[i] = values[v];
+      for (int k = 0; k < D; ++k) grad[i * D + k] = gradients[v * D + k];
+    }
+    cubic_patch<D>(p, z, grad, b.data());
+  };
+  double worst = 0, scale = 0;
+  int facets = 0;
+  for (index_t c = 0; c < mesh.slot_count(); ++c) {
+    if (!mesh.is_live(c)) continue;
+    for (int i = 0; i <= D; ++i) {
+      const index_t f = mesh.opp[(D + 1) * c + i];
+      if (f == no_facet || cell_of<D>(f) < c) continue;
+      const index_t d = cell_of<D>(f);
+      std::array<double, cubic_controls<D>> bc, bd;
+      patch_of(c, bc), patch_of(d, bd);
+      for (int trial = 0; trial < 3; ++trial) {
+        double wc[D + 1] = {}, wd[D + 1] = {}, sum = 0;
+        for (int j = 0; j <= D; ++j)
+          if (j != i) wc[j] = std::uniform_real_distribution<double>(0.05, 1.0)(rng), sum += wc[j];
+        for (int j = 0; j <= D; ++j) {
+          wc[j] /= sum;
+          for (int l = 0; l <= D; ++l)
+            if (mesh.vertex(d, l) == mesh.vertex(c, j) && j != i) wd[l] = wc[j];
+        }
+        const double a = eval_cubic<D>(bc.data(), wc), b = eval_cubic<D>(bd.data(), wd);
+        worst = std::max(worst, std::abs(a - b));
+        scale = std::max(scale, std::abs(a));
+      }
+      ++facets;
+    }
+  }
+  CHECK(facets >= 40);  // 40 interior edges of a 5 x 5 grid; many more in 3D and 4D
+  CHECK(scale > 0.1);
+  CHECK(worst < 1e-12);
+}
+
 TEST_CASE_TEMPLATE("core scan_convert: input samples are reproduced bit for bit where output samples coincide (x3, x1)",
                    T, Dim<2>, Dim<3>, Dim<4>) {
   constexpr int D = T::value;

@@ -16,6 +16,17 @@ def test_volume_reproduces_its_samples_and_keeps_the_dtype():
         np.testing.assert_array_equal(out[1::3, 1::3, 1::3], volume)
 
 
+def test_volume_render_cubic_by_default_linear_on_request():
+    z, y, x = np.mgrid[0:8, 0:8, 0:8].astype(np.float32)
+    volume = np.exp(-((x - 3.5) ** 2 + (y - 3.2) ** 2 + (z - 3.9) ** 2) / 8).astype(np.float32)
+    cubic = ddtscale.upscale_volume(volume, 2)
+    np.testing.assert_array_equal(cubic, ddtscale.upscale_volume(volume, 2, render="cubic", slopes="mc4"))
+    linear = ddtscale.upscale_volume(volume, 2, render="linear")
+    assert np.abs(cubic - linear).max() > 1e-3
+    with pytest.raises(ValueError, match="render"):
+        ddtscale.upscale_volume(volume, 2, render="quintic")
+
+
 def test_volume_size_is_z_y_x_and_int16_keeps_its_range():
     volume = np.full((4, 5, 6), -1000, np.int16)
     volume[2:] = 3000
