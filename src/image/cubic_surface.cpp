@@ -1,5 +1,6 @@
 #include "image/cubic_surface.hpp"
 
+#include "core/scan_convert.hpp"
 #include "util/error.hpp"
 #include "pipeline/upscale.hpp"
 
@@ -57,21 +58,14 @@ std::vector<float> grid_gradients(const Image& src, SlopeLimiter limiter) {
 
 std::array<double, 10> cubic_patch(const Point2& p0, const Point2& p1, const Point2& p2, double z0, double z1,
                                    double z2, const double g0[2], const double g1[2], const double g2[2]) {
-  auto along = [](const double g[2], const Point2& from, const Point2& to) {
-    return (g[0] * (to.x - from.x) + g[1] * (to.y - from.y)) / 3.0;
-  };
-  std::array<double, 10> b;
-  b[0] = z0, b[1] = z1, b[2] = z2;
-  b[3] = z0 + along(g0, p0, p1);  // 210
-  b[4] = z1 + along(g1, p1, p0);  // 120
-  b[5] = z1 + along(g1, p1, p2);  // 021
-  b[6] = z2 + along(g2, p2, p1);  // 012
-  b[7] = z2 + along(g2, p2, p0);  // 102
-  b[8] = z0 + along(g0, p0, p2);  // 201
-  const double edge_mean = (b[3] + b[4] + b[5] + b[6] + b[7] + b[8]) / 6.0;
-  const double vertex_mean = (z0 + z1 + z2) / 3.0;
-  b[9] = edge_mean + 0.5 * (edge_mean - vertex_mean);
-  return b;
+  // The core's D-dimensional patch (the same arithmetic), in this order.
+  const std::array<core::Vec<2>, 3> p = {{{p0.x, p0.y}, {p1.x, p1.y}, {p2.x, p2.y}}};
+  const double z[3] = {z0, z1, z2}, g[6] = {g0[0], g0[1], g1[0], g1[1], g2[0], g2[1]};
+  double c[core::cubic_controls<2>];
+  core::cubic_patch<2>(p, z, g, c);
+  using core::pair_control;
+  return {c[0], c[1], c[2], c[pair_control<2>(0, 1)], c[pair_control<2>(1, 0)], c[pair_control<2>(1, 2)],
+          c[pair_control<2>(2, 1)], c[pair_control<2>(2, 0)], c[pair_control<2>(0, 2)], c[9]};
 }
 
 }  // namespace ddt
