@@ -299,7 +299,8 @@ int run_volume_eval(int argc, char** argv) {
   app.add_option("--scale", options.scale, "integer magnification")->capture_default_str()->check(whole_number(1, 16));
   app.add_option("--fields", fields, "fields (comma-separated): sphere, hydrogen")->delimiter(',');
   app.add_option("--methods", methods,
-                 "methods (comma-separated): trilinear, tricubic, delaunay, ddt:COST (ddt = ddt:variance)")
+                 "methods (comma-separated): trilinear, tricubic, delaunay, ddt:COST (ddt = ddt:variance); "
+                 "ddt and delaunay with -linear (the paper's render) or -cubic (the default), e.g. ddt-linear:variance")
       ->delimiter(',');
   app.add_option("--pictures", pictures, "write <field>-x<scale>.png views into this directory");
   app.add_option("--picture-methods", picture_methods, "the columns after the reference in the pictures")

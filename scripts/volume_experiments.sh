@@ -23,7 +23,8 @@ mkdir -p docs/volumes
 if [ "$what" = all ] || [ "$what" = experiments ]; then
   "$bin" volume-eval --size 32 --scale 4 --pictures docs/volumes --table docs/volumes/experiments.md
   "$bin" volume-eval --size 32 --scale 4 --fields hydrogen --quantize 8 \
-    --methods trilinear,tricubic,delaunay,ddt:variance,ddt:sederberg --picture-methods trilinear,tricubic,ddt:variance \
+    --methods trilinear,tricubic,delaunay,ddt-linear:variance,ddt:variance,ddt:sederberg \
+    --picture-methods trilinear,tricubic,ddt-linear:variance,ddt:variance \
     --iso 0.02 --pictures docs/volumes --table docs/volumes/hydrogen-8bit.md
 fi
 

@@ -42,8 +42,9 @@ struct VolumeExperimentOptions {
   int quantize_bits = 0;  // 0: the input keeps float precision
   double iso_level = 0;   // > 0: the isosurface pictures' level instead of the field's iso_level
   std::vector<std::string> fields = {"sphere", "hydrogen"};
-  std::vector<std::string> methods = {"trilinear", "tricubic", "delaunay", "ddt:variance", "ddt:sederberg"};
-  std::vector<std::string> picture_methods = {"trilinear", "ddt:variance", "ddt:sederberg"};
+  std::vector<std::string> methods = {"trilinear", "tricubic", "delaunay", "ddt-linear:variance", "ddt:variance",
+                                      "ddt:sederberg"};
+  std::vector<std::string> picture_methods = {"trilinear", "ddt-linear:variance", "ddt:variance"};
   std::string picture_dir;  // empty: no pictures
   std::function<void(const std::string&)> log;
 };

@@ -168,7 +168,8 @@ Volume upscale_volume(const Volume& src, int nx, int ny, int nz, const VolumeUps
                                      core::ScanGrid<3>::whole({src.nx, src.ny, src.nz}, {nx, ny, nz}), &rs,
                                      cubic ? &gradients : nullptr);
   local.seconds_render = seconds_since(t0);
-  log(std::string("render (") + to_string(options.render) + "): " + std::to_string(nx) + "x" + std::to_string(ny) + "x" + std::to_string(nz) + ", " +
+  log("render: " + std::to_string(nx) + "x" + std::to_string(ny) + "x" + std::to_string(nz) + ", " +
+      to_string(options.render) + ", " +
       std::to_string(rs.owned) + " voxels in tetrahedra + " + std::to_string(rs.rim) + " on the hull rim, " +
       std::to_string(local.seconds_render) + " s");
   if (stats) *stats = local;
