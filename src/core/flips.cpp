@@ -20,10 +20,13 @@ bool contains(const Array& list, int count, index_t x) {
 // contain A (the star of conv A is connected through them). Returns how
 // many; -1 when there are more than max_flip_cells<D>, -2 when the walk
 // would leave the scope.
-constexpr int star_too_large = -1, star_out_of_scope = -2;
+// With stop_below >= 0, returns star_has_smaller as soon as a cell of a
+// smaller slot is found.
+constexpr int star_too_large = -1, star_out_of_scope = -2, star_has_smaller = -3;
 template <int D>
 int gather_star(const SimplexMesh<D>& mesh, index_t start, const std::array<index_t, D + 1>& a, int a_count,
-                std::array<index_t, max_flip_cells<D>>& star, const ReadScope* scope, int cap = max_flip_cells<D>) {
+                std::array<index_t, max_flip_cells<D>>& star, const ReadScope* scope, int cap = max_flip_cells<D>,
+                index_t stop_below = -1) {
   int star_count = 0;
   star[star_count++] = start;
   for (int k = 0; k < star_count; ++k) {
@@ -35,6 +38,7 @@ int gather_star(const SimplexMesh<D>& mesh, index_t start, const std::array<inde
       const index_t next = cell_of<D>(g);
       if (contains(star, star_count, next)) continue;
       if (scope && !scope->reads(next)) return star_out_of_scope;
+      if (next < stop_below) return star_has_smaller;
       if (star_count == cap) return star_too_large;
       star[star_count++] = next;
     }
@@ -153,13 +157,13 @@ std::string flip_name(const FlipPlan<D>& plan) {
 }
 
 template <int D>
-int simplex_star(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mask,
-                 std::array<index_t, max_flip_cells<D>>& star, const ReadScope* scope) {
+bool first_of_star(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mask) {
   std::array<index_t, D + 1> a{};
   int a_count = 0;
   for (int i = 0; i <= D; ++i)
     if (simplex_mask & (1u << i)) a[a_count++] = mesh.vertex(start, i);
-  return std::max(-1, gather_star(mesh, start, a, a_count, star, scope));
+  std::array<index_t, max_flip_cells<D>> star;
+  return gather_star(mesh, start, a, a_count, star, nullptr, max_flip_cells<D>, start) > 0;
 }
 
 template <int D>
@@ -290,8 +294,7 @@ void apply_flip(SimplexMesh<D>& mesh, const FlipPlan<D>& plan, index_t* new_slot
 #define DDT_CORE_INSTANTIATE(D)                                                              \
   template std::string flip_name<D>(const FlipPlan<D>&);                                     \
   template int propose_flip<D>(const SimplexMesh<D>&, index_t, unsigned, FlipPlan<D>*, int, const ProposalOptions&); \
-  template int simplex_star<D>(const SimplexMesh<D>&, index_t, unsigned, std::array<index_t, max_flip_cells<D>>&, \
-                               const ReadScope*);                                                              \
+  template bool first_of_star<D>(const SimplexMesh<D>&, index_t, unsigned);                                      \
   template void apply_flip<D>(SimplexMesh<D>&, const FlipPlan<D>&, index_t*, std::vector<index_t>*);
 DDT_CORE_INSTANTIATE(2)
 DDT_CORE_INSTANTIATE(3)

@@ -111,14 +111,12 @@ template <int D>
 int propose_flip(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mask, FlipPlan<D>* plans, int max_plans,
                  const ProposalOptions& options = {});
 
-// The star of the simplex given by `simplex_mask` in cell `start`: every
-// cell containing its vertices, found across the facets that contain them.
-// Writes the slots (start first) to star and returns how many; -1 when
-// there are more than max_flip_cells<D>, or (with scope) when the walk
-// would leave the scope.
+// Whether `start` is the smallest slot of the star of the simplex given by
+// `simplex_mask` (every cell containing its vertices, found across the
+// facets that contain them) and that star has at most max_flip_cells<D>
+// cells. The walk stops at the first smaller slot.
 template <int D>
-int simplex_star(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mask,
-                 std::array<index_t, max_flip_cells<D>>& star, const ReadScope* scope = nullptr);
+bool first_of_star(const SimplexMesh<D>& mesh, index_t start, unsigned simplex_mask);
 
 // Replaces plan.removed by plan.inserted and relinks every facet by its
 // key: inside the region among the new cells, on its boundary to the old

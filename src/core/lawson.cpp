@@ -2,6 +2,7 @@
 
 #include "core/predicates.hpp"
 #include "core/schedule.hpp"
+#include "util/chunked_sum.hpp"
 #include "util/error.hpp"
 #include "util/prefaulted_image.hpp"
 
@@ -73,11 +74,8 @@ class Optimizer {
         const index_t g = mesh_.opp[(D + 1) * c + i];
         if (g != no_facet && cell_of<D>(g) > c) m |= 1u << i;
       }
-      for (int j = D + 1; j < P; ++j) {
-        std::array<index_t, max_flip_cells<D>> star;
-        const int count = simplex_star<D>(mesh_, c, item_masks<D>[j], star);
-        if (count > 0 && *std::min_element(star.begin(), star.begin() + count) == c) m |= 1u << j;
-      }
+      for (int j = D + 1; j < P; ++j)
+        if (first_of_star<D>(mesh_, c, item_masks<D>[j])) m |= 1u << j;
       mask[c] = m;
     });
     return mask;
@@ -119,7 +117,12 @@ class Optimizer {
         [&](index_t item, int distance) { prefetch(item / P, distance); });
   }
 
-  double total() const { return total_cost<D>(mesh_, z_, K_, cost_); }
+  // total_cost; for simplex-weight costs the same sum of the kept terms.
+  double total() const {
+    if (facet_) return total_cost<D>(mesh_, z_, K_, cost_);
+    return chunked_sum(mesh_.slot_count(),
+                       [&](index_t c) { return mesh_.is_live(c) ? cell_costs_[c] : 0.0; });
+  }
 
   // Simplex-weight costs: each live cell's term, kept per slot so a test
   // computes only the cells a flip would insert.
