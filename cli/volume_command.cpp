@@ -70,11 +70,13 @@ int fail(const char* who, const std::exception& e) {
 // The memory the job holds at least, per channel: the input and the output
 // as floats (8 bytes an output voxel with the stored copy and the ownership
 // count), one more output per --compare method, and for the mesh methods the
-// tetrahedralization (about 0.5 KB an input voxel, docs/volumes.md).
+// tetrahedralization (about 0.5 KB an input voxel, docs/volumes.md) and the
+// cubic render's gradients (3 floats an input voxel).
 double volume_job_bytes(const std::string& method, std::size_t compares, double in_voxels, double out_voxels,
                         int channels) {
   const bool mesh = method == "ddt" || method == "delaunay";
-  return channels * (4.0 * in_voxels + 8.0 * out_voxels * double(1 + compares)) + (mesh ? 512.0 * in_voxels : 0.0);
+  return channels * ((mesh ? 16.0 : 4.0) * in_voxels + 8.0 * out_voxels * double(1 + compares)) +
+         (mesh ? 512.0 * in_voxels : 0.0);
 }
 
 int run_volume_upscale(int argc, char** argv) {
@@ -227,9 +229,11 @@ int run_volume_upscale(int argc, char** argv) {
     ddt::VolumeUpscaleStats stats;
     const ddt::Volume result = ddt::upscale_volume(src, out[0], out[1], out[2], options, &stats);
     char comment[200];
-    std::snprintf(comment, sizeof comment, "ddtscale: %s enlarged to %dx%dx%d by %s%s%s", size_text(src).c_str(),
-                  out[0], out[1], out[2], method.c_str(), method == "ddt" ? ", cost " : "",
-                  method == "ddt" ? cost.c_str() : "");
+    const bool mesh_method = method == "ddt" || method == "delaunay";
+    std::snprintf(comment, sizeof comment, "ddtscale: %s enlarged to %dx%dx%d by %s%s%s%s%s",
+                  size_text(src).c_str(), out[0], out[1], out[2], method.c_str(), method == "ddt" ? ", cost " : "",
+                  method == "ddt" ? cost.c_str() : "", mesh_method ? ", render " : "",
+                  mesh_method ? render.c_str() : "");
     t0 = std::chrono::steady_clock::now();
     ddt::write_volume(output, result, out_type, out_encoding, file.header.get(), comment);
     log("write: " + output + ", " + ddt::sample_type_name(out_type) + ", " + ddt::encoding_name(out_encoding) + ", " +

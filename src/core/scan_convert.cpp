@@ -321,10 +321,10 @@ void cut(const Vec<D>* from, int n, int axis, double c, Section<D>& to) {
 }
 
 // Writes samples X0..X1 of a row, all owned by the cell. Channels: the
-// compile-time count (1: scalars) or 0 for scan.K. Exact: the row's ends
-// come from the integer frame's exact fill rule, which gives a sample to
-// one cell only, so its ownership count needs no atomic add (cells on the
-// floating-point path can overlap and add atomically).
+// compile-time count (1: scalars) or 0 for scan.K. Both paths apply the
+// one exact fill rule, so no sample has two owners (ScanStats::overcovered
+// counts any that would); the integer frame's rows (Exact) count with a
+// plain add, the rare floating-point cells keep an atomic one.
 template <int D, int Channels, bool Exact>
 void interpolate_row(const Scan<D>& scan, const CellSetup<D>& s, const double* z0, const double* dz, const Vec<D>& q,
                      std::size_t row_base, int X0, int X1) {
@@ -710,8 +710,8 @@ void cubic_patch(const std::array<Vec<D>, D + 1>& p, const double* z, const doub
     b[i] = z[i];
     for (int j = 0; j <= D; ++j) {
       if (j == i) continue;
-      double along = 0;
-      for (int k = 0; k < D; ++k) along += g[i * D + k] * (p[j][k] - p[i][k]);
+      double along = g[i * D] * (p[j][0] - p[i][0]);  // from the first term, as the 2D patch sums
+      for (int k = 1; k < D; ++k) along += g[i * D + k] * (p[j][k] - p[i][k]);
       b[pair_control<D>(i, j)] = z[i] + along / 3.0;
     }
   }

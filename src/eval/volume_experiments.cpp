@@ -24,13 +24,12 @@ VolumeUpscaleOptions options_for(const std::string& spec) {
   const auto colon = spec.find(':');
   o.method = spec.substr(0, colon);
   if (colon != std::string::npos) o.cost = spec.substr(colon + 1);
-  for (const Render render : {Render::linear, Render::cubic}) {
-    const std::string suffix = std::string("-") + to_string(render);
-    if (o.method.size() > suffix.size() && o.method.ends_with(suffix)) {
-      o.method.resize(o.method.size() - suffix.size());
-      o.render = render;
-    }
-  }
+  for (const Render render : {Render::linear, Render::cubic})
+    for (const std::string mesh_method : {"ddt", "delaunay"})
+      if (o.method == mesh_method + "-" + to_string(render)) {
+        o.method = mesh_method;
+        o.render = render;
+      }
   return o;
 }
 

@@ -37,6 +37,8 @@ Volume upscale_planar(const Volume& src, const int out[3], const VolumeUpscaleOp
   o.optimize = options.method == "ddt";
   o.relative_tolerance = options.relative_tolerance;
   o.max_iterations = options.max_iterations;
+  o.render = options.render;
+  o.slopes = options.slopes;
   o.log = options.log;
   UpscaleStats s2;
   const Image big = upscale(img, out[u], out[v], o, &s2);

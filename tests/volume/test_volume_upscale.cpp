@@ -155,6 +155,20 @@ TEST_CASE("upscale_volume: a single slice goes through the 2D method and is repe
       for (int X = 0; X < 14; ++X) CHECK(out.at(X, Y, Z) == flat.at(X, Z));
   const Volume dot = upscale_volume(Volume(1, 1, 1, 0.5f), 2, 2, 2, method("ddt"));
   CHECK(std::all_of(dot.voxels.begin(), dot.voxels.end(), [](float v) { return v == 0.5f; }));
+  // The render and the slopes reach the 2D method.
+  VolumeUpscaleOptions linear_render = method("ddt");
+  linear_render.render = Render::linear;
+  o.render = Render::linear;
+  const Volume linear_out = upscale_volume(in, 14, 3, 10, linear_render);
+  const Image linear_flat = upscale(img, 14, 10, o);
+  int mismatches = 0, differ_from_cubic = 0;
+  for (int Z = 0; Z < 10; ++Z)
+    for (int X = 0; X < 14; ++X) {
+      mismatches += linear_out.at(X, 1, Z) != linear_flat.at(X, Z);
+      differ_from_cubic += linear_out.at(X, 1, Z) != out.at(X, 1, Z);
+    }
+  CHECK(mismatches == 0);
+  CHECK(differ_from_cubic > 0);
 }
 
 TEST_CASE("upscale_volume: bad arguments are refused") {
