@@ -80,7 +80,6 @@ struct CellSetup {
   const double* patch = nullptr;  // the cubic render: K blocks of cubic_controls<D> values; null: linear
 };
 
-
 // The cofactor normal of facet i (opposite vertex i) of a positive cell,
 // pointing towards vertex i; in double or in integers (the integer frame).
 // Orientation, from the mesh invariant (cells are positive): with base
