@@ -113,8 +113,7 @@ class Optimizer {
           f.dimension = D;
           return f;
         },
-        scan_initial, test, [&](index_t item) { pending_[item] = 0; }, on_iteration,
-        [&](index_t item, int distance) { prefetch(item / P, distance); });
+        scan_initial, test, [&](index_t item) { pending_[item] = 0; }, on_iteration);
   }
 
   // total_cost; for simplex-weight costs the same sum of the kept terms.
@@ -136,24 +135,6 @@ class Optimizer {
   // Room for slots appended before a parallel phase.
   void reserve_cell_costs() {
     if (!facet_) cell_costs_.resize(mesh_.slot_count());
-  }
-
-  // A test walks the cells around its item: far ahead the cell itself is
-  // fetched, nearer the cells across its facets (the links read then).
-  void prefetch(index_t c, int distance) const {
-    const std::size_t at = static_cast<std::size_t>(D + 1) * c;
-    if (at >= mesh_.opp.size()) return;
-    if (distance > 8) {
-      __builtin_prefetch(&mesh_.cell[at]);
-      __builtin_prefetch(&mesh_.opp[at]);
-      return;
-    }
-    for (int i = 0; i <= D; ++i) {
-      const index_t g = mesh_.opp[at + i];
-      if (g == no_facet) continue;
-      __builtin_prefetch(&mesh_.cell[static_cast<std::size_t>(D + 1) * cell_of<D>(g)]);
-      __builtin_prefetch(&mesh_.opp[static_cast<std::size_t>(D + 1) * cell_of<D>(g)]);
-    }
   }
 
   // Flags the items of the first List_active as pending.

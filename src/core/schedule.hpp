@@ -39,16 +39,10 @@ long long flip_total(const Counts& flips) {
 // scan_initial(Counts&), test(item, Counts&), drop(item),
 // on_iteration(iteration, const Counts& flips in it); `make()` a zero Counts.
 // iterations and total are the region's, updated in place.
-// prefetch(item, distance): an item `distance` tests ahead (16: its own
-// cell, 8: the cells around it), so its memory is read before its test.
-struct NoPrefetch {
-  void operator()(index_t, int) const {}
-};
-template <class Counts, class Make, class ScanInitial, class Test, class Drop, class OnIteration,
-          class Prefetch = NoPrefetch>
+template <class Counts, class Make, class ScanInitial, class Test, class Drop, class OnIteration>
 void lawson_iterations(bool scan, std::vector<index_t> active, std::vector<index_t>& candidate, int max_iterations,
                        int& iterations, Counts& total, Make make, ScanInitial scan_initial, Test test, Drop drop,
-                       OnIteration on_iteration, Prefetch prefetch = {}) {
+                       OnIteration on_iteration) {
   while ((scan || !active.empty()) && iterations < max_iterations) {
     ++iterations;
     Counts now = make();
@@ -56,12 +50,7 @@ void lawson_iterations(bool scan, std::vector<index_t> active, std::vector<index
       scan_initial(now);
       scan = false;
     } else {
-      const std::size_t n = active.size();
-      for (std::size_t i = 0; i < n; ++i) {
-        if (i + 16 < n) prefetch(active[i + 16], 16);
-        if (i + 8 < n) prefetch(active[i + 8], 8);
-        test(active[i], now);
-      }
+      for (index_t item : active) test(item, now);
     }
     total += now;
     active.swap(candidate);
