@@ -4,6 +4,8 @@
 #include "util/error.hpp"
 #include "pipeline/upscale.hpp"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -35,25 +37,36 @@ double limited_slope(const double z[5], const bool has[5], SlopeLimiter limiter)
   return 0;
 }
 
-std::vector<float> grid_gradients(const Image& src, SlopeLimiter limiter) {
-  const int W = src.width, H = src.height, C = src.channels;
-  std::vector<float> g(src.pixel_count() * C * 2, 0.0f);
-  for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x)
-      for (int c = 0; c < C; ++c) {
-        double zx[5], zy[5];
-        bool hx[5], hy[5];
-        for (int k = -2; k <= 2; ++k) {
-          hx[k + 2] = x + k >= 0 && x + k < W;
-          hy[k + 2] = y + k >= 0 && y + k < H;
-          zx[k + 2] = hx[k + 2] ? src.at(x + k, y, c) : 0.0;
-          zy[k + 2] = hy[k + 2] ? src.at(x, y + k, c) : 0.0;
+std::vector<float> grid_slopes(const float* values, const std::vector<int>& size, int channels,
+                               SlopeLimiter limiter) {
+  const int D = static_cast<int>(size.size());
+  std::vector<std::size_t> stride(D);
+  std::size_t n = 1;
+  for (int axis = 0; axis < D; ++axis) stride[axis] = n, n *= static_cast<std::size_t>(size[axis]);
+  std::vector<float> g(n * channels * D, 0.0f);
+  if (n == 0) return g;
+  const std::size_t per_slice = n / size[D - 1];
+  tbb::parallel_for(0, size[D - 1], [&](int slice) {
+    for (std::size_t i = slice * per_slice; i < (slice + 1) * per_slice; ++i)
+      for (int axis = 0; axis < D; ++axis) {
+        const int at = static_cast<int>(i / stride[axis] % size[axis]);
+        bool has[5];
+        for (int k = -2; k <= 2; ++k) has[k + 2] = at + k >= 0 && at + k < size[axis];
+        for (int c = 0; c < channels; ++c) {
+          double z[5];
+          for (int k = -2; k <= 2; ++k)
+            z[k + 2] = has[k + 2] ? values[(static_cast<std::ptrdiff_t>(i) + k * static_cast<std::ptrdiff_t>(stride[axis])) *
+                                               channels + c]
+                                  : 0.0;
+          g[(i * channels + c) * D + axis] = static_cast<float>(limited_slope(z, has, limiter));
         }
-        float* out = &g[(src.index(x, y, c)) * 2];
-        out[0] = static_cast<float>(limited_slope(zx, hx, limiter));
-        out[1] = static_cast<float>(limited_slope(zy, hy, limiter));
       }
+  });
   return g;
+}
+
+std::vector<float> grid_gradients(const Image& src, SlopeLimiter limiter) {
+  return grid_slopes(src.pixels.data(), {src.width, src.height}, src.channels, limiter);
 }
 
 std::array<double, 10> cubic_patch(const Point2& p0, const Point2& p1, const Point2& p2, double z0, double z1,

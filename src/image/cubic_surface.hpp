@@ -32,6 +32,13 @@ namespace ddt {
 // has[k]: whether z[k] exists (the grid's border).
 double limited_slope(const double z[5], const bool has[5], SlopeLimiter limiter);
 
+// The limited slope of every sample of a grid (any number of axes, axis 0
+// fastest; `channels` values per sample) along each axis: #samples by
+// channels by #axes floats, spacing 1 (images: grid_gradients; volumes'
+// cubic render).
+std::vector<float> grid_slopes(const float* values, const std::vector<int>& size, int channels,
+                               SlopeLimiter limiter);
+
 // Per-pixel gradients of every channel: #pixels by C by 2 (d/dx, d/dy), row-major.
 std::vector<float> grid_gradients(const Image& src, SlopeLimiter limiter);
 

@@ -483,12 +483,12 @@ void write_volume(const std::string& path, const Volume& volume, VolumeSampleTyp
                                  : nrrdAlloc_nva(nout, info.teem, spatial + axis0, sizes + (1 - axis0));
   if (allocated) throw Error("cannot write '" + path + "': " + teem_error());
   const std::size_t nx = volume.nx, ny = volume.ny, nz = volume.nz;
-  const std::size_t n = wrapped ? 0 : volume.voxels.size();
-  for (std::size_t i = 0; i < n; ++i) {
-    double v = volume.voxels[i];
-    if (info.integer) v = std::clamp(std::nearbyint(v), info.lo, info.hi);
-    nrrdDInsert[info.teem](nout->data, i, v);
-  }
+  if (!wrapped)
+    for (std::size_t i = 0; i < volume.voxels.size(); ++i) {
+      double v = volume.voxels[i];
+      if (info.integer) v = std::clamp(std::nearbyint(v), info.lo, info.hi);
+      nrrdDInsert[info.teem](nout->data, i, v);
+    }
   if (like) {
     const Nrrd* nin = like->nrrd;
     if (nrrdBasicInfoCopy(nout, nin,

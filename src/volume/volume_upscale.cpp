@@ -8,8 +8,6 @@
 #include "eval/volume_resample.hpp"
 #include "image/cubic_surface.hpp"
 
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <cstdio>
 
@@ -59,29 +57,6 @@ Volume upscale_planar(const Volume& src, const int out[3], const VolumeUpscaleOp
 }
 
 }  // namespace
-
-std::vector<float> volume_gradients(const Volume& volume, SlopeLimiter limiter) {
-  const int C = volume.channels;
-  const int n[3] = {volume.nx, volume.ny, volume.nz};
-  std::vector<float> g(volume.voxels.size() * 3, 0.0f);
-  tbb::parallel_for(0, volume.nz, [&](int z) {
-    for (int y = 0; y < volume.ny; ++y)
-      for (int x = 0; x < volume.nx; ++x)
-        for (int c = 0; c < C; ++c)
-          for (int axis = 0; axis < 3; ++axis) {
-            double v[5];
-            bool has[5];
-            for (int k = -2; k <= 2; ++k) {
-              int at[3] = {x, y, z};
-              at[axis] += k;
-              has[k + 2] = at[axis] >= 0 && at[axis] < n[axis];
-              v[k + 2] = has[k + 2] ? volume.at(at[0], at[1], at[2], c) : 0.0;
-            }
-            g[(volume.index(x, y, z) * C + c) * 3 + axis] = static_cast<float>(limited_slope(v, has, limiter));
-          }
-  });
-  return g;
-}
 
 int volume_region_slices(int nx, int ny, int nz) {
   const long long cells_per_slice = 6LL * std::max(1, nx - 1) * std::max(1, ny - 1);  // 6 per cube
@@ -165,7 +140,9 @@ Volume upscale_volume(const Volume& src, int nx, int ny, int nz, const VolumeUps
   Volume out;
   out.nx = nx, out.ny = ny, out.nz = nz, out.channels = src.channels;
   const bool cubic = options.render == Render::cubic;
-  const std::vector<float> gradients = cubic ? volume_gradients(src, options.slopes) : std::vector<float>{};
+  const std::vector<float> gradients =
+      cubic ? grid_slopes(src.voxels.data(), {src.nx, src.ny, src.nz}, src.channels, options.slopes)
+            : std::vector<float>{};
   out.voxels = core::scan_convert<3>(mesh, src.voxels, src.channels,
                                      core::ScanGrid<3>::whole({src.nx, src.ny, src.nz}, {nx, ny, nz}), &rs,
                                      cubic ? &gradients : nullptr);

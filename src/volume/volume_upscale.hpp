@@ -54,10 +54,6 @@ struct VolumeUpscaleOptions {
   std::function<void(const std::string&)> log;  // verbose lines; may be empty
 };
 
-// Per voxel and channel the limited slope along x, y, z (#voxels by C by 3,
-// voxel spacing 1), image/cubic_surface.hpp's limiter on each axis.
-std::vector<float> volume_gradients(const Volume& volume, SlopeLimiter limiter);
-
 // The stage seconds and the optimizer's summary (flips by kind;
 // pipeline/stages.hpp), and what is the volumes' own.
 struct VolumeUpscaleStats : StageSeconds, OptimizerSummary<core::FlipCounts> {
