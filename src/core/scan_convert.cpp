@@ -158,10 +158,13 @@ IntegerFrame<D> integer_frame(const std::vector<Vec<D>>& points, const ScanGrid<
     }
   for (int k = 0; k < D; ++k) {
     const double twice = 2 * grid.scale[k];
-    if (twice != std::floor(twice) || twice > 4096 || std::abs(grid.first[k]) > (1 << 28)) return frame;
+    const double twice_phase = 2 * grid.phase[k];
+    if (twice != std::floor(twice) || twice > 4096 || std::abs(grid.first[k]) > (1 << 28) ||
+        twice_phase != std::floor(twice_phase) || !(std::abs(twice_phase) <= 4096))
+      return frame;
     frame.multiplier[k] = static_cast<std::int64_t>(twice) << f;
     frame.sample_step[k] = std::int64_t(2) << f;
-    frame.sample_base[k] = (2 * std::int64_t(grid.first[k]) + 1) << f;
+    frame.sample_base[k] = (2 * std::int64_t(grid.first[k]) + static_cast<std::int64_t>(twice_phase)) << f;
   }
   frame.valid = true;
   return frame;
@@ -278,8 +281,9 @@ struct Scan {
   // in [lo, hi].
   void index_range(int axis, double lo, double hi, int& first, int& last) const {
     const double scale = grid.scale[axis];
-    first = std::max(0, ceil_int((lo - tol) * scale - 0.5) - grid.first[axis]);
-    last = std::min(grid.size[axis] - 1, floor_int((hi + tol) * scale - 0.5) - grid.first[axis]);
+    const double phase = grid.phase[axis];
+    first = std::max(0, ceil_int((lo - tol) * scale - phase) - grid.first[axis]);
+    last = std::min(grid.size[axis] - 1, floor_int((hi + tol) * scale - phase) - grid.first[axis]);
   }
 
   // std::floor and std::ceil are library calls without SSE4.1, and this
@@ -534,7 +538,8 @@ std::vector<std::vector<float>> render_box_faces(const SimplexMesh<D>& mesh, con
       const SimplexMesh<D - 1> face = mesh_from_cells<D - 1>(std::move(points), facets[which]);
       ScanGrid<D - 1> g;
       for (int k = 0, n = 0; k < D; ++k)
-        if (k != axis) g.size[n] = grid.size[k], g.scale[n] = grid.scale[k], g.first[n] = grid.first[k], ++n;
+        if (k != axis)
+          g.size[n] = grid.size[k], g.scale[n] = grid.scale[k], g.first[n] = grid.first[k], g.phase[n] = grid.phase[k], ++n;
       faces[which] = scan_convert<D - 1>(face, face_values, K, g, nullptr, gradients ? &face_gradients : nullptr);
     }
   }
@@ -574,7 +579,7 @@ std::vector<float> scan_convert(const SimplexMesh<D>& mesh, const std::vector<fl
   double extent = 1, magnitude = 0;
   for (int k = 0; k < D; ++k) {
     coord[k].resize(grid.size[k]);
-    for (int X = 0; X < grid.size[k]; ++X) coord[k][X] = (grid.first[k] + X + 0.5) / grid.scale[k];
+    for (int X = 0; X < grid.size[k]; ++X) coord[k][X] = (grid.first[k] + X + grid.phase[k]) / grid.scale[k];
     stride[k] = k == 0 ? 1 : stride[k - 1] * grid.size[k - 1];
     extent = std::max(extent, hi[k] - lo[k]);
     magnitude += std::abs(lo[k]);

@@ -4,8 +4,10 @@
 // (D = 3: volumes, D = 4: volume series; D = 1, 2 serve the rim, below).
 //
 // Output sample X = (X0, ..., X(D-1)) of the window samples the input space
-// at ((first[k] + X[k] + 0.5) / scale[k])_k, the pixel/voxel convention of
-// image.hpp and volume.hpp. Inside the convex hull of the mesh the value is
+// at ((first[k] + X[k] + phase[k]) / scale[k])_k: phase 0.5 is the
+// pixel/voxel convention of image.hpp and volume.hpp (samples are cells),
+// phase scale / 2 puts output sample 0 on input sample 0 (samples are
+// instants: the frames of a sequence, node-centred axes). Inside the convex hull of the mesh the value is
 // the linear interpolant of the simplex containing that point; outside it
 // (the half-sample rim), the value at the nearest point of the hull.
 //
@@ -63,17 +65,37 @@ struct ScanGrid {
   std::array<int, D> size{};      // samples of the window per axis
   std::array<double, D> scale{};  // output samples per input unit, per axis
   std::array<int, D> first{};     // index of the window's first sample in the whole output
+  std::array<double, D> phase = filled(0.5);  // see above; 2 * phase integral keeps the exact integer frame
 
   std::size_t count() const {
     std::size_t n = 1;
     for (int s : size) n *= static_cast<std::size_t>(s);
     return n;
   }
-  // The whole output of a grid of `input` samples enlarged to `output`.
-  static ScanGrid whole(const std::array<int, D>& input, const std::array<int, D>& output) {
+  // The whole output of a grid of `input` samples enlarged to `output`;
+  // on the axes flagged `node_centred`, n samples span the n - 1 intervals
+  // between the first and the last (output sample 0 on input sample 0, the
+  // last on the last: scale (output - 1) / (input - 1)).
+  static ScanGrid whole(const std::array<int, D>& input, const std::array<int, D>& output,
+                        const std::array<bool, D>& node_centred = {}) {
     ScanGrid g;
-    for (int k = 0; k < D; ++k) g.size[k] = output[k], g.scale[k] = double(output[k]) / input[k];
+    for (int k = 0; k < D; ++k) {
+      g.size[k] = output[k];
+      if (node_centred[k] && input[k] > 1 && output[k] > 1) {
+        g.scale[k] = double(output[k] - 1) / (input[k] - 1);
+        g.phase[k] = g.scale[k] / 2;
+      } else {
+        g.scale[k] = double(output[k]) / input[k];
+      }
+    }
     return g;
+  }
+
+ private:
+  static std::array<double, D> filled(double v) {
+    std::array<double, D> a;
+    a.fill(v);
+    return a;
   }
 };
 

@@ -144,7 +144,7 @@ Volume upscale_volume(const Volume& src, int nx, int ny, int nz, const VolumeUps
       cubic ? grid_slopes(src.voxels.data(), {src.nx, src.ny, src.nz}, src.channels, options.slopes)
             : std::vector<float>{};
   out.voxels = core::scan_convert<3>(mesh, src.voxels, src.channels,
-                                     core::ScanGrid<3>::whole({src.nx, src.ny, src.nz}, {nx, ny, nz}), &rs,
+                                     core::ScanGrid<3>::whole({src.nx, src.ny, src.nz}, {nx, ny, nz}, options.node_centred), &rs,
                                      cubic ? &gradients : nullptr);
   local.seconds_render = seconds_since(t0);
   log("render: " + std::to_string(nx) + "x" + std::to_string(ny) + "x" + std::to_string(nz) + ", " +

@@ -14,7 +14,8 @@
 // classic resamplers work channel by channel.
 //
 // Output voxel (X, Y, Z) samples the field at ((X + 0.5) / sx, ...), with
-// s = n_out / n_in per axis; outside the samples' hull (the half-voxel rim)
+// s = n_out / n_in per axis (on node-centred axes at X / s + 0.5 with
+// s = (n_out - 1) / (n_in - 1)); outside the samples' hull (the half-voxel rim)
 // the value is that of the nearest hull point (clamping: the hull is a box).
 //
 // A volume with a single slice along some axis has no 3D tetrahedrization:
@@ -31,6 +32,7 @@
 #include "pipeline/stages.hpp"
 #include "volume/volume.hpp"
 
+#include <array>
 #include <functional>
 #include <string>
 #include <vector>
@@ -51,6 +53,11 @@ struct VolumeUpscaleOptions {
   // paper's).
   Render render = Render::cubic;
   SlopeLimiter slopes = SlopeLimiter::mc4;
+  // Axes (x, y, z) whose samples are instants rather than cells (NRRD's
+  // node centring; the frames of a sequence on z): the output's first and
+  // last samples sit on the input's first and last, so n samples enlarged
+  // to (n - 1) * s + 1 keep every input sample at every s-th output sample.
+  std::array<bool, 3> node_centred{};
   std::function<void(const std::string&)> log;  // verbose lines; may be empty
 };
 
