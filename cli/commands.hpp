@@ -38,6 +38,15 @@ int run_scene_command(int argc, char** argv);
 bool is_volume_command(int argc, char** argv);
 int run_volume_command(int argc, char** argv);
 
+// Image sequences by data-dependent tetrahedrization of (x, y, t)
+// (sequence_upscale.hpp):
+//   ddtscale in_%04d.png out_%04d.png --time-scale 4 [--scale 2]
+// chosen when an argument is a printf-style frame pattern
+// (frame_sequence.hpp). 0 on success (and for --help), 1 on a runtime
+// error, 2 on bad arguments.
+bool is_sequence_command(int argc, char** argv);
+int run_sequence_command(int argc, char** argv);
+
 // --optimizer, --seed and the --anneal-* schedule, shared by the image and
 // the grid commands.
 void add_optimizer_options(CLI::App& app, std::string& optimizer, ddt::AnnealOptions& anneal);

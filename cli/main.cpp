@@ -210,5 +210,6 @@ int main(int argc, char** argv) {
   if (argc >= 2 && std::strcmp(argv[1], "grid") == 0) return run_grid_command(argc - 1, argv + 1);
   if (argc >= 2 && std::strcmp(argv[1], "scene") == 0) return run_scene_command(argc - 1, argv + 1);
   if (is_volume_command(argc, argv)) return run_volume_command(argc, argv);
+  if (is_sequence_command(argc, argv)) return run_sequence_command(argc, argv);
   return run_upscale(argc, argv);
 }

@@ -4,7 +4,7 @@
 
 #include <CLI/CLI.hpp>
 
-void add_output_options(CLI::App& app, OutputOptions& output) {
+void add_output_options(CLI::App& app, OutputOptions& output, bool streamed) {
   app.add_option("--compression", output.encode.compression,
                  "how the output is compressed. PNG: LEVEL[:FILTER], zlib LEVEL 0-9, FILTER none, sub, up, avg, "
                  "paeth or adaptive (default 1:up: fast, files about half the size of libvips'; 9:adaptive for "
@@ -22,6 +22,7 @@ void add_output_options(CLI::App& app, OutputOptions& output) {
                  "TIFF and EXR: write tiles of N x N pixels (a multiple of 16, e.g. 512) instead of rows: what "
                  "viewers of very large images read fastest (TIFF over 4 GB becomes BigTIFF by itself)")
       ->check(whole_number(16, 65536));
+  if (!streamed) return;
   app.add_flag("--no-stream", output.no_stream,
                "hold the whole output in memory and write it at the end, instead of writing it by bands of rows "
                "as they are rendered (same file, bit for bit; more memory)");

@@ -17,5 +17,6 @@ struct OutputOptions {
   bool no_stream = false;
 };
 
-// Adds the options above to `app`.
-void add_output_options(CLI::App& app, OutputOptions& output);
+// Adds the options above to `app` (--no-stream only when `streamed`: the
+// image command's).
+void add_output_options(CLI::App& app, OutputOptions& output, bool streamed = true);

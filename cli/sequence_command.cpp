@@ -1,0 +1,231 @@
+// Image sequences on the command line (volume/sequence_upscale.hpp):
+//   ddtscale frames/in_%04d.png out/out_%04d.png --time-scale 4 [--scale 2]
+
+#include "commands.hpp"
+#include "output_options.hpp"
+#include "whole_number.hpp"
+
+#include "core/costs.hpp"
+#include "io/frame_sequence.hpp"
+#include "util/error.hpp"
+#include "util/progress.hpp"
+#include "util/size_limits.hpp"
+#include "util/thread_limit.hpp"
+#include "util/timing.hpp"
+#include "volume/sequence_upscale.hpp"
+
+#include <CLI/CLI.hpp>
+#include <OpenImageIO/imageio.h>
+
+#include <sys/resource.h>
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+
+namespace {
+
+// The memory a tile holds at least: its input and output frames as floats
+// (8 bytes an output sample with the ownership count), the mesh (about
+// 0.5 KB an input sample, docs/volumes.md) and the cubic render's gradients.
+double tile_bytes(int width, int height, int channels, int out_width, int out_height, int tile_frames,
+                  int margin_frames, int time_scale) {
+  const double in = double(width) * height * (tile_frames + 2 * margin_frames + 1);
+  const double out = double(out_width) * out_height * ((tile_frames + 2 * margin_frames) * time_scale + 1);
+  return channels * (16.0 * in + 8.0 * out) + 512.0 * in;
+}
+
+}  // namespace
+
+bool is_sequence_command(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i)
+    if (argv[i][0] != '-' && ddt::is_frame_pattern(argv[i])) return true;
+  return false;
+}
+
+int run_sequence_command(int argc, char** argv) {
+  std::string input, output, size_spec, method = "ddt", cost = "variance", render = "cubic", slopes = "mc4";
+  double scale = 1;
+  int time_scale = 1, threads = 0;
+  double tolerance = 1e-9;
+  bool verbose = false, quiet = false;
+  ddt::SequenceUpscaleOptions options;
+  OutputOptions writing;
+  long long max_pixels = ddt::default_max_voxels;
+  CLI::App app{
+      "ddtscale (sequences): frame-rate upsampling and enlargement of an image sequence by data-dependent\n"
+      "tetrahedrization of (x, y, t). The frames are the slices of one space-time volume; a moving edge is a\n"
+      "slanted surface in it, and the Lawson flips align tetrahedra with it, so the new frames interpolate\n"
+      "along the motion (no optical flow, no double images of blended frames).",
+      "ddtscale"};
+  app.add_option("input", input,
+                 "input frames, a printf-style pattern: %04d (zero-padded to 4 digits) or %d, e.g. shot/in_%04d.png; "
+                 "every frame OpenImageIO reads (PNG, TIFF, EXR, JPEG, ...), consecutive numbers, one size and type")
+      ->required();
+  app.add_option("output", output,
+                 "output frames, a pattern too (e.g. out/out_%04d.png); the format follows its extension")
+      ->required();
+  app.add_option("-t,--time-scale", time_scale,
+                 "frame-rate factor, a whole number: T input frames become (T - 1) * N + 1, input frame k is output "
+                 "frame k * N (default 1: no new frames)")
+      ->check(whole_number(1, 64))
+      ->capture_default_str();
+  app.add_option("-s,--scale", scale, "spatial magnification of every frame, any real > 0 (default 1)");
+  app.add_option("--size", size_spec, "output frame size instead of --scale: WxH");
+  app.add_option("--method", method, "ddt (default) or delaunay (the initial tetrahedrization, no flips)")
+      ->check(CLI::IsMember({"ddt", "delaunay"}))
+      ->capture_default_str();
+  app.add_option("--cost", cost, "flip cost: " + ddt::cost_names_joined())->capture_default_str();
+  app.add_option("--render", render,
+                 "field drawn on the tetrahedra: cubic (a cubic Bézier tetrahedron from the values and limited "
+                 "slopes at its vertices, default) or linear (the paper's)")
+      ->check(CLI::IsMember(ddt::render_names()))
+      ->capture_default_str();
+  app.add_option("--slopes", slopes, "cubic render: slope limiter of the vertex gradients: mc4, mc, central, minmod")
+      ->check(CLI::IsMember(ddt::slope_limiter_names()))
+      ->capture_default_str();
+  app.add_option("--tolerance", tolerance, "a flip must lower the local cost by more than this fraction")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  app.add_option("--time-tile", options.tile_frames,
+                 "input frames reconstructed at once (default: about 4 million input pixels a tile, margins "
+                 "included); bounds the memory")
+      ->check(whole_number(1));
+  app.add_option("--time-margin", options.margin_frames,
+                 "extra input frames reconstructed on either side of a tile, so its joins match")
+      ->check(whole_number(0, 1000))
+      ->capture_default_str();
+  app.add_option("--max-pixels", max_pixels, "refuse outputs with more pixels in all (frames x width x height)")
+      ->check(whole_number(1))
+      ->capture_default_str();
+  app.add_option("--threads", threads,
+                 "threads to use (default: all cores); the output is the same for any number")
+      ->check(whole_number(1));
+  add_output_options(app, writing, false);
+  app.add_flag("-v,--verbose", verbose, "report tiles, stages, flips and times");
+  app.add_flag("-q,--quiet", quiet, "print nothing but errors");
+  app.footer(
+      "\nNumbering: output frame number = first input number + index; with input frames 1..64 at --time-scale 4\n"
+      "the output is frames 1..253, and input frame n is output frame 1 + 4 * (n - 1).\n"
+      "Frames are written into a private directory beside the output and renamed into place only when all are\n"
+      "written: a failed run leaves no output frame behind and replaces none; input frames are never replaced.\n"
+      "Colour: one tetrahedrization for all channels, the cost summed over them (alpha included).\n"
+      "Example: ddtscale shot/in_%04d.png slow/out_%04d.png --time-scale 4");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app.help();
+    return 0;
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "ddtscale: " << e.what() << " (see ddtscale in_%04d.png out_%04d.png --help)\n";
+    return 2;
+  }
+
+  try {
+    ddt::find_cost(cost);
+    const ddt::FramePattern in_pattern = ddt::parse_frame_pattern(input);
+    const ddt::FramePattern out_pattern = ddt::parse_frame_pattern(output);
+    if (!(scale > 0) || !std::isfinite(scale)) throw ddt::Error("--scale must be a positive number");
+    if (scale != 1 && !size_spec.empty()) throw ddt::Error("give either --scale or --size, not both");
+    const std::vector<int> numbers = ddt::find_frames(in_pattern);
+    const int first_number = numbers.front(), frames = static_cast<int>(numbers.size());
+    std::vector<std::string> input_paths;
+    for (int n : numbers) input_paths.push_back(in_pattern.path(n));
+    if (out_pattern.path(first_number) == in_pattern.path(first_number))
+      throw ddt::Error("the output pattern '" + output + "' names the input frames");
+    const int out_frames = ddt::sequence_output_frames(frames, time_scale);
+    ddt::check_output_path(out_pattern.path(first_number), input_paths.front());
+    ddt::check_encode_options(out_pattern.path(first_number), writing.encode);
+
+    auto log = [&](const std::string& line) {
+      if (verbose) std::cerr << line << "\n";
+    };
+    threads = ddt::usable_threads(threads);
+    const auto thread_limit = ddt::limit_threads(threads);
+    if (threads > 0) OIIO::attribute("threads", threads);
+
+    // The first frame sizes the job: output size, writability, memory.
+    int out_w = 0, out_h = 0;
+    ddt::ImageReadLimits limits;
+    limits.check = [&](const ddt::ImageHeader& h) {
+      if (!size_spec.empty()) {
+        char extra = 0;
+        if (std::sscanf(size_spec.c_str(), "%dx%d%c", &out_w, &out_h, &extra) != 2 || out_w < 1 || out_h < 1 ||
+            out_w > 65536 || out_h > 65536)
+          throw ddt::Error("--size wants WxH between 1 and 65536, got '" + size_spec + "'");
+      } else {
+        out_w = static_cast<int>(std::max(1.0, std::round(h.width * scale)));
+        out_h = static_cast<int>(std::max(1.0, std::round(h.height * scale)));
+      }
+      ddt::check_size_limit("output", std::to_string(out_frames) + " frames of " + std::to_string(out_w) + "x" +
+                                          std::to_string(out_h),
+                            ddt::checked_product({out_frames, out_w, out_h}), max_pixels, "--max-pixels");
+      ddt::check_image_writable(out_pattern.path(first_number), out_w, out_h, h.channels, h.format, h.alpha_channel,
+                                writing.encode);
+      const int tile = options.tile_frames > 0 ? options.tile_frames
+                                               : ddt::sequence_tile_frames(h.width, h.height, options.margin_frames);
+      ddt::check_memory_fits("this job", tile_bytes(h.width, h.height, h.channels, out_w, out_h,
+                                                    std::min(tile, frames), options.margin_frames, time_scale));
+    };
+    auto t0 = ddt::Clock::now();
+    const ddt::ImageFile first = ddt::read_frame(in_pattern, first_number, nullptr, limits);
+    const int width = first.image.width, height = first.image.height, channels = first.image.channels;
+    log("read: " + std::to_string(frames) + " frames " + std::to_string(first_number) + ".." +
+        std::to_string(numbers.back()) + " of " + std::to_string(width) + "x" + std::to_string(height) + "x" +
+        std::to_string(channels));
+    if (method == "ddt" && channels > ddt::max_cost_channels)
+      throw ddt::Error("frames of " + std::to_string(channels) + " channels: the flip costs take at most " +
+                       std::to_string(ddt::max_cost_channels));
+
+    ddt::Progress progress;
+    std::unique_ptr<ddt::ProgressBar> bar;
+    if (!quiet && ddt::ProgressBar::is_terminal(stderr)) bar = std::make_unique<ddt::ProgressBar>(progress, stderr);
+    options.progress = &progress;
+    options.volume.method = method;
+    options.volume.cost = cost;
+    options.volume.relative_tolerance = tolerance;
+    options.volume.render = ddt::render_by_name(render);
+    options.volume.slopes = ddt::slope_limiter_by_name(slopes);
+    auto print = [&](const std::string& line) {
+      if (!verbose) return;
+      if (bar) bar->print(line);
+      else std::cerr << line << "\n";
+    };
+    if (verbose) options.volume.log = print;
+
+    const OIIO::ParamValueList metadata =
+        ddt::scaled_metadata(first.metadata, double(out_w) / width, double(out_h) / height);
+    ddt::FrameSequenceWriter writer(out_pattern, first.format, first.alpha_channel, &metadata, writing.encode,
+                                    input_paths);
+    auto read = [&](int k) {
+      if (k == 0) return first.image;
+      return ddt::read_frame(in_pattern, first_number + k, &first).image;
+    };
+    auto write = [&](ddt::Image frame, int k) { writer.write(first_number + k, frame); };
+    ddt::SequenceUpscaleStats stats;
+    ddt::upscale_sequence(frames, width, height, channels, read, out_w, out_h, time_scale, options, write, &stats);
+    t0 = ddt::Clock::now();
+    writer.commit();
+    if (bar) bar->stop();
+    struct rusage ru {};
+    getrusage(RUSAGE_SELF, &ru);
+    char line[400];
+    std::snprintf(line, sizeof line,
+                  "done: %d tiles, %lld flips, read %.2f s, tetrahedralize %.2f s, optimize %.2f s, render %.2f s, "
+                  "write %.2f s, peak memory %.0f MB",
+                  stats.tiles, stats.flips, stats.seconds_read, stats.seconds_triangulate, stats.seconds_optimize,
+                  stats.seconds_render, stats.seconds_write + ddt::seconds_since(t0), ru.ru_maxrss / 1024.0);
+    log(line);
+    if (!quiet && !verbose)
+      std::cerr << out_pattern.path(first_number) << " .. " << out_pattern.path(first_number + out_frames - 1) << ": "
+                << out_frames << " frames of " << out_w << "x" << out_h << "\n";
+    return 0;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "ddtscale: out of memory (try a smaller --time-tile)\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "ddtscale: " << e.what() << "\n";
+    return 1;
+  }
+}

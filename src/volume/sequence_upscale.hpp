@@ -1,0 +1,62 @@
+#pragma once
+// ddt::upscale_sequence — frame-rate upsampling (and enlargement) of an
+// image sequence as one 2D + time field: the frames are the slices of a
+// volume (x, y, t), triangulated into tetrahedra and optimized by the
+// generalized Lawson procedure like a volume (volume_upscale.hpp), all
+// channels on one mesh. A moving edge is a slanted surface in (x, y, t);
+// tetrahedra that align with it interpolate along the motion, without
+// optical flow and without the double images of blended frames.
+//
+// Time is node-centred (frames are instants): T input frames at time
+// scale s become (T - 1) * s + 1 output frames, output frame s * k is input
+// frame k (bit for bit at odd spatial scales and at scale 1), and the
+// frames between sample the field at t = k + j / s. Space follows the
+// pixel convention (image.hpp).
+//
+// Memory is bounded by tiling over time: the frames are reconstructed in
+// tiles of `tile_frames` input frames plus `margin_frames` on either side
+// (read once, kept while the next tile needs them); each tile's output
+// frames are handed to the sink in order and freed. Tiles change the
+// result only near their joins and only where a flip sequence reaches
+// through the margin (docs/sequences.md measures how much).
+//
+// Errors: throws ddt::Error (bad sizes or scales, unknown method or cost,
+// too many channels, a frame source that fails).
+
+#include "util/image.hpp"
+#include "util/progress.hpp"
+#include "volume/volume_upscale.hpp"
+
+#include <functional>
+
+namespace ddt {
+
+struct SequenceUpscaleOptions {
+  VolumeUpscaleOptions volume;  // method, cost, render, slopes, tolerance, log (node_centred set here)
+  int tile_frames = 0;          // input frames per tile; 0: sequence_tile_frames()
+  int margin_frames = 4;        // extra input frames reconstructed on either side of a tile
+  Progress* progress = nullptr;  // "enlarge" stage, in output frames
+};
+
+struct SequenceUpscaleStats {
+  int tiles = 0;
+  long long flips = 0;
+  long long tetrahedra = 0;  // of the largest tile
+  double seconds_read = 0, seconds_triangulate = 0, seconds_optimize = 0, seconds_render = 0, seconds_write = 0;
+};
+
+// The default tile: about 2^22 input samples (mesh and output of a few GB
+// at most) including its margins, at least one frame beyond them.
+int sequence_tile_frames(int width, int height, int margin_frames);
+
+// Output frames of T input frames at time scale s: (T - 1) * s + 1.
+int sequence_output_frames(int frames, int time_scale);
+
+// `frames` input frames of width x height x channels, read on demand by
+// read(number) (0-based); written by write(frame, number) in order of
+// number, each out_width x out_height.
+void upscale_sequence(int frames, int width, int height, int channels, const std::function<Image(int)>& read,
+                      int out_width, int out_height, int time_scale, const SequenceUpscaleOptions& options,
+                      const std::function<void(Image, int)>& write, SequenceUpscaleStats* stats = nullptr);
+
+}  // namespace ddt
