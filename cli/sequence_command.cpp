@@ -6,6 +6,9 @@
 #include "whole_number.hpp"
 
 #include "core/costs.hpp"
+#include "eval/sequence_experiments.hpp"
+#include "eval/sequence_scenes.hpp"
+#include "io/safe_file.hpp"
 #include "io/frame_sequence.hpp"
 #include "util/error.hpp"
 #include "util/progress.hpp"
@@ -38,14 +41,122 @@ double tile_bytes(int width, int height, int channels, int out_width, int out_he
 
 }  // namespace
 
+static int run_sequence_eval(int argc, char** argv) {
+  ddt::SequenceExperimentOptions options;
+  std::string table, size_spec;
+  bool quiet = false;
+  CLI::App app{"Frame-rate upsampling with known truth: moving scenes rendered (box-filtered) at the full frame\n"
+               "rate, every SCALE-th frame kept (8-bit), the frames between rebuilt by each method and scored\n"
+               "against the truth (mean PSNR over the rebuilt frames, peak 1). Prints a Markdown table.",
+               "ddtscale sequence-eval"};
+  app.add_option("--scenes", options.scenes, "scenes: disk, bar, strokes (moving edges), pan, zoom (a photograph)")
+      ->delimiter(',')
+      ->capture_default_str();
+  app.add_option("--methods", options.methods,
+                 "blend (linear in time), minterpolate (FFmpeg's motion-compensated interpolation, needs ffmpeg), "
+                 "delaunay, ddt, ddt-cubic, ddt:COST")
+      ->delimiter(',')
+      ->capture_default_str();
+  app.add_option("--size", size_spec, "frame size, N or WxH (default 128)");
+  app.add_option("--frames", options.input_frames, "input frames kept")->check(whole_number(2, 10000))->capture_default_str();
+  app.add_option("--speed", options.speed, "multiplies every scene's motion (a sweep over speeds)")
+      ->check(CLI::Range(0.0, 100.0))
+      ->capture_default_str();
+  app.add_option("--time-scale", options.time_scale, "frames made per kept frame")
+      ->check(whole_number(2, 64))
+      ->capture_default_str();
+  app.add_option("--photo", options.photo,
+                 "photograph for pan and zoom (any image at least 2 x the frame size plus the motion; without it "
+                 "they are skipped), e.g. ../shared/datasets/Set14/baboon.png");
+  app.add_option("--ffmpeg", options.ffmpeg, "the ffmpeg program")->capture_default_str();
+  app.add_option("--pictures", options.picture_dir, "write <scene>-frames.png and <scene>-xt.png into this directory");
+  app.add_option("--table", table, "also write the Markdown table to this file");
+  app.add_flag("-q,--quiet", quiet, "print the table only");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app.help();
+    return 0;
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "ddtscale sequence-eval: " << e.what() << "\n";
+    return 2;
+  }
+  try {
+    if (!size_spec.empty()) {
+      char extra = 0;
+      const int n = std::sscanf(size_spec.c_str(), "%dx%d%c", &options.width, &options.height, &extra);
+      if (n == 1) options.height = options.width;
+      if ((n != 1 && n != 2) || options.width < 4 || options.height < 4 || options.width > 4096 ||
+          options.height > 4096)
+        throw ddt::Error("--size wants N or WxH between 4 and 4096, got '" + size_spec + "'");
+    }
+    if (!quiet) options.log = [](const std::string& line) { std::cerr << line << "\n"; };
+    const std::string text = ddt::sequence_experiment_table(ddt::run_sequence_experiments(options));
+    std::cout << text;
+    if (!table.empty()) ddt::write_file_atomically(table, text);
+    return 0;
+  } catch (const std::exception& e) {
+    std::cerr << "ddtscale sequence-eval: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+static int run_sequence_scene(int argc, char** argv) {
+  std::string scene, output, size_spec = "128", photo;
+  int frames = 65;
+  CLI::App app{"Write a moving test scene as frames (box-filtered at every instant: the truth of sequence-eval).",
+               "ddtscale sequence-scene"};
+  app.add_option("scene", scene, "disk, bar, strokes, pan or zoom")->required();
+  app.add_option("output", output, "frame pattern, e.g. disk/f_%04d.png (numbered from 0)")->required();
+  app.add_option("--frames", frames, "frames to write")->check(whole_number(1, 100000))->capture_default_str();
+  app.add_option("--size", size_spec, "frame size, N or WxH")->capture_default_str();
+  app.add_option("--photo", photo, "photograph for pan and zoom");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    std::cout << app.help();
+    return 0;
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "ddtscale sequence-scene: " << e.what() << "\n";
+    return 2;
+  }
+  try {
+    int w = 0, h = 0;
+    char extra = 0;
+    const int n = std::sscanf(size_spec.c_str(), "%dx%d%c", &w, &h, &extra);
+    if (n == 1) h = w;
+    if ((n != 1 && n != 2) || w < 1 || h < 1 || w > 16384 || h > 16384)
+      throw ddt::Error("--size wants N or WxH between 1 and 16384, got '" + size_spec + "'");
+    const ddt::SequenceScene& s = ddt::find_sequence_scene(scene);
+    const ddt::FramePattern pattern = ddt::parse_frame_pattern(output);
+    ddt::check_output_path(pattern.path(0), "");
+    ddt::Image picture;
+    if (s.photo) {
+      if (photo.empty()) throw ddt::Error("the scene '" + scene + "' needs --photo");
+      picture = ddt::read_image(photo).image;
+    }
+    ddt::FrameSequenceWriter writer(pattern, ddt::SampleFormat::uint8, -1, nullptr, {}, photo.empty() ? std::vector<std::string>{} : std::vector<std::string>{photo});
+    for (int t = 0; t < frames; ++t) writer.write(t, ddt::render_sequence_frame(scene, t, w, h, &picture));
+    writer.commit();
+    std::cerr << pattern.path(0) << " .. " << pattern.path(frames - 1) << ": " << frames << " frames of " << w << "x"
+              << h << "\n";
+    return 0;
+  } catch (const std::exception& e) {
+    std::cerr << "ddtscale sequence-scene: " << e.what() << "\n";
+    return 1;
+  }
+}
+
 bool is_sequence_command(int argc, char** argv) {
+  if (argc >= 2 && (std::string(argv[1]) == "sequence-eval" || std::string(argv[1]) == "sequence-scene")) return true;
   for (int i = 1; i < argc; ++i)
     if (argv[i][0] != '-' && ddt::is_frame_pattern(argv[i])) return true;
   return false;
 }
 
-int run_sequence_command(int argc, char** argv) {
-  std::string input, output, size_spec, method = "ddt", cost = "variance", render = "cubic", slopes = "mc4";
+static int run_sequence_upscale(int argc, char** argv) {
+  std::string input, output, size_spec, method = "ddt", cost = "variance", slopes = "mc4";
+  std::string render = ddt::to_string(ddt::sequence_volume_defaults().render);
   double scale = 1;
   int time_scale = 1, threads = 0;
   double tolerance = 1e-9;
@@ -78,8 +189,8 @@ int run_sequence_command(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--cost", cost, "flip cost: " + ddt::cost_names_joined())->capture_default_str();
   app.add_option("--render", render,
-                 "field drawn on the tetrahedra: cubic (a cubic Bézier tetrahedron from the values and limited "
-                 "slopes at its vertices, default) or linear (the paper's)")
+                 "field drawn on the tetrahedra: linear (the paper's; the default: sharper on moving edges) or cubic "
+                 "(a cubic Bézier tetrahedron from the values and limited slopes at its vertices, smoother)")
       ->check(CLI::IsMember(ddt::render_names()))
       ->capture_default_str();
   app.add_option("--slopes", slopes, "cubic render: slope limiter of the vertex gradients: mc4, mc, central, minmod")
@@ -228,4 +339,10 @@ int run_sequence_command(int argc, char** argv) {
     std::cerr << "ddtscale: " << e.what() << "\n";
     return 1;
   }
+}
+
+int run_sequence_command(int argc, char** argv) {
+  if (std::string(argv[1]) == "sequence-eval") return run_sequence_eval(argc - 1, argv + 1);
+  if (std::string(argv[1]) == "sequence-scene") return run_sequence_scene(argc - 1, argv + 1);
+  return run_sequence_upscale(argc, argv);
 }
