@@ -1,0 +1,84 @@
+#!/usr/bin/env bash
+# End-to-end checks of image sequences on the ddtscale command: frame-rate
+# upsampling (ddtscale in_%04d.png out_%04d.png --time-scale 4), its
+# options, sequence-scene and sequence-eval, and bad input (one line on
+# stderr, non-zero exit, nothing written or destroyed).
+# Usage: cli_sequence_test.sh path/to/ddtscale
+set -u
+bin="$1"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+passed=0
+failed=0
+ok() { passed=$((passed + 1)); }
+bad() { failed=$((failed + 1)); echo "FAIL: $*"; }
+run_ok() {
+  local name="$1"; shift
+  if "$bin" "$@" >"$work/out.txt" 2>"$work/err.txt"; then ok; else bad "$name: exit $? ($(cat "$work/err.txt"))"; fi
+}
+run_fail() {
+  local name="$1"; shift
+  "$bin" "$@" >"$work/out.txt" 2>"$work/err.txt"
+  local code=$?
+  local lines
+  lines=$(wc -l <"$work/err.txt")
+  if [ "$code" -ne 1 ] && [ "$code" -ne 2 ]; then bad "$name: exit code $code"; return; fi
+  if [ "$lines" -ne 1 ]; then bad "$name: $lines lines on stderr: $(cat "$work/err.txt")"; return; fi
+  ok
+}
+count() { find "$1" -maxdepth 1 -name "$2" | wc -l; }
+
+# Input: the moving strokes, frames 0..8 of the full rate (every 4th kept below).
+mkdir -p "$work/full" "$work/in" "$work/out"
+run_ok "sequence-scene" sequence-scene strokes "$work/full/f_%03d.png" --frames 9 --size 40x32
+[ "$(count "$work/full" 'f_*.png')" -eq 9 ] && ok || bad "sequence-scene wrote $(count "$work/full" 'f_*.png') frames"
+cp "$work/full/f_000.png" "$work/in/in_0001.png"
+cp "$work/full/f_004.png" "$work/in/in_0002.png"
+cp "$work/full/f_008.png" "$work/in/in_0003.png"
+
+# The main job: 3 frames at time x4 -> 9 frames numbered 1..9, input frames kept.
+run_ok "time x4" "$work/in/in_%04d.png" "$work/out/o_%04d.png" --time-scale 4
+[ "$(count "$work/out" 'o_*.png')" -eq 9 ] && ok || bad "time x4 wrote $(count "$work/out" 'o_*.png') frames, not 9"
+[ -f "$work/out/o_0001.png" ] && [ -f "$work/out/o_0009.png" ] && ok || bad "output numbering is not 1..9"
+grep -q "o_0001.png .. .*o_0009.png: 9 frames of 40x32" "$work/err.txt" && ok || bad "summary line: $(cat "$work/err.txt")"
+if command -v idiff >/dev/null; then
+  idiff -fail 0 "$work/in/in_0002.png" "$work/out/o_0005.png" >/dev/null && ok || bad "input frame 2 is not output frame 5"
+fi
+# Space and time, EXR out, verbose.
+run_ok "scale 2, exr" "$work/in/in_%04d.png" "$work/out/big_%02d.exr" --time-scale 2 --scale 2 -v --threads 1
+[ "$(count "$work/out" 'big_*.exr')" -eq 5 ] && ok || bad "time x2 wrote $(count "$work/out" 'big_*.exr') frames, not 5"
+grep -q "done: 1 tiles" "$work/err.txt" && ok || bad "verbose summary missing: $(tail -1 "$work/err.txt")"
+# Tiles over time with --time-tile and --time-margin.
+run_ok "tiles" "$work/in/in_%04d.png" "$work/out/t_%04d.png" --time-scale 4 --time-tile 1 --time-margin 1 -v
+grep -q "done: 2 tiles" "$work/err.txt" && ok || bad "--time-tile 1 did not make 2 tiles"
+run_ok "help" "$work/in/in_%04d.png" x_%04d.png --help
+grep -q -- "--time-scale" "$work/out.txt" && ok || bad "--help does not describe --time-scale"
+
+# Bad input: one line, non-zero exit, nothing written.
+run_fail "no match" "$work/none_%04d.png" "$work/out/n_%04d.png" --time-scale 2
+run_fail "same pattern" "$work/in/in_%04d.png" "$work/in/in_%04d.png" --time-scale 2
+run_fail "time scale 0" "$work/in/in_%04d.png" "$work/out/z_%04d.png" --time-scale 0
+run_fail "two numbers" "$work/in/in_%04d_%d.png" "$work/out/z_%04d.png" --time-scale 2
+run_fail "no extension" "$work/in/in_%04d.png" "$work/out/z_%04d" --time-scale 2
+cp "$work/in/in_0003.png" "$work/in/in_0005.png"
+run_fail "missing frame" "$work/in/in_%04d.png" "$work/out/m_%04d.png" --time-scale 2
+grep -q "frame 4" "$work/err.txt" && ok || bad "the missing frame is not named: $(cat "$work/err.txt")"
+rm "$work/in/in_0005.png"
+"$bin" sequence-scene disk "$work/odd_%d.png" --frames 1 --size 20 2>/dev/null
+cp "$work/odd_0.png" "$work/in/in_0004.png"
+run_fail "mismatched size" "$work/in/in_%04d.png" "$work/out/s_%04d.png" --time-scale 2
+grep -q "all frames must match" "$work/err.txt" && ok || bad "mismatch message: $(cat "$work/err.txt")"
+[ "$(count "$work/out" 's_*.png')" -eq 0 ] && ok || bad "a failed run left output frames"
+rm "$work/in/in_0004.png"
+# An existing output frame survives a failed run.
+echo keep >"$work/out/k_0001.png"
+run_fail "bad cost" "$work/in/in_%04d.png" "$work/out/k_%04d.png" --time-scale 2 --cost nope
+[ "$(cat "$work/out/k_0001.png")" = "keep" ] && ok || bad "a failed run replaced an existing output frame"
+
+# sequence-eval, small: every method but the photograph scenes.
+run_ok "sequence-eval" sequence-eval --scenes strokes --methods blend,ddt --size 24 --frames 3 -q
+grep -q "| strokes | ddt |" "$work/out.txt" && ok || bad "sequence-eval table: $(cat "$work/out.txt")"
+run_fail "sequence-eval bad scene" sequence-eval --scenes nope --size 24 --frames 3 -q
+
+echo "cli_sequence_test: $passed passed, $failed failed"
+[ "$failed" -eq 0 ]
