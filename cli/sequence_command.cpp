@@ -54,7 +54,7 @@ static int run_sequence_eval(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--methods", options.methods,
                  "blend (linear in time), minterpolate (FFmpeg's motion-compensated interpolation, needs ffmpeg), "
-                 "delaunay, ddt, ddt-cubic, ddt:COST")
+                 "delaunay, ddt, ddt-cubic, ddt-unsmoothed (no graduated optimization), ddt:COST")
       ->delimiter(',')
       ->capture_default_str();
   app.add_option("--size", size_spec, "frame size, N or WxH (default 128)");
@@ -196,6 +196,12 @@ static int run_sequence_upscale(int argc, char** argv) {
   app.add_option("--slopes", slopes, "cubic render: slope limiter of the vertex gradients: mc4, mc, central, minmod")
       ->check(CLI::IsMember(ddt::slope_limiter_names()))
       ->capture_default_str();
+  double presmooth = ddt::sequence_volume_defaults().presmooth[0];
+  app.add_option("--presmooth", presmooth,
+                 "graduated optimization: flip first on the frames smoothed by a Gaussian of this sigma (pixels), "
+                 "then on the frames themselves; 0: flip on the frames only")
+      ->check(CLI::Range(0.0, 16.0))
+      ->capture_default_str();
   app.add_option("--tolerance", tolerance, "a flip must lower the local cost by more than this fraction")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
@@ -298,6 +304,7 @@ static int run_sequence_upscale(int argc, char** argv) {
     options.volume.relative_tolerance = tolerance;
     options.volume.render = ddt::render_by_name(render);
     options.volume.slopes = ddt::slope_limiter_by_name(slopes);
+    options.volume.presmooth = {presmooth, presmooth, 0.0};
     auto print = [&](const std::string& line) {
       if (!verbose) return;
       if (bar) bar->print(line);

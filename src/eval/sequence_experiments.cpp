@@ -117,6 +117,7 @@ std::vector<Image> ddt_frames(const std::vector<Image>& frames, int time_scale, 
   if (colon != std::string::npos) o.volume.cost = method.substr(colon + 1);
   o.volume.method = base == "delaunay" ? "delaunay" : "ddt";
   if (base == "ddt-cubic") o.volume.render = Render::cubic;
+  if (base == "ddt-unsmoothed") o.volume.presmooth = {};
   std::vector<Image> out;
   const Image& f0 = frames.front();
   upscale_sequence(
@@ -172,8 +173,10 @@ std::vector<SequenceExperimentRow> run_sequence_experiments(const SequenceExperi
     throw Error("no directory '" + o.picture_dir + "' for the pictures");
   for (const std::string& m : o.methods) {
     const std::string base = m.substr(0, m.find(':'));
-    if (base != "blend" && base != "minterpolate" && base != "delaunay" && base != "ddt" && base != "ddt-cubic")
-      throw Error("unknown method '" + m + "' (valid: blend, minterpolate, delaunay, ddt, ddt-cubic, ddt:COST)");
+    if (base != "blend" && base != "minterpolate" && base != "delaunay" && base != "ddt" && base != "ddt-cubic" &&
+        base != "ddt-unsmoothed")
+      throw Error("unknown method '" + m +
+                  "' (valid: blend, minterpolate, delaunay, ddt, ddt-cubic, ddt-unsmoothed, ddt:COST)");
   }
   auto log = [&](const std::string& line) {
     if (o.log) o.log(line);

@@ -19,6 +19,7 @@
 //                 "ddt:COST" picks the cost (plain ddt: variance)
 //   ddt-cubic     ddt with the cubic render (plain ddt: the sequences'
 //                 default render, linear)
+//   ddt-unsmoothed  ddt without the graduated optimization (presmooth 0)
 //
 // Pictures (picture_dir set): <scene>-frames.png, the truth and each
 // method at the frame halfway between the first two kept frames after the

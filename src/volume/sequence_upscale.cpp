@@ -68,7 +68,7 @@ void upscale_sequence(int frames, int width, int height, int channels, const std
     const Volume out = upscale_volume(in, out_width, out_height, sequence_output_frames(count, time_scale),
                                       volume_options, &vs);
     ++local.tiles;
-    local.flips += vs.flips.total() + vs.planar_flips;
+    local.flips += vs.flips.total() + vs.planar_flips + vs.presmooth_flips;
     local.tetrahedra = std::max(local.tetrahedra, vs.tetrahedra);
     local.seconds_triangulate += vs.seconds_triangulate;
     local.seconds_optimize += vs.seconds_optimize;

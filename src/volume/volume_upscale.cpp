@@ -7,6 +7,7 @@
 #include "pipeline/upscale.hpp"
 #include "eval/volume_resample.hpp"
 #include "image/cubic_surface.hpp"
+#include "volume/presmooth.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -122,6 +123,18 @@ Volume upscale_volume(const Volume& src, int nx, int ny, int nz, const VolumeUps
                       flips.summary().c_str(), total);
         log(line);
       };
+    if (options.presmooth[0] > 0 || options.presmooth[1] > 0 || options.presmooth[2] > 0) {
+      const std::vector<float> smooth = smoothed_grid(
+          src.voxels, {src.nx, src.ny, src.nz}, src.channels,
+          {options.presmooth[0], options.presmooth[1], options.presmooth[2]});
+      const core::LawsonStats pre = core::optimize_lawson<3>(mesh, smooth, src.channels, cost, lawson);
+      local.presmooth_flips = pre.flips.total();
+      char line[300];
+      std::snprintf(line, sizeof line, "optimize on the smoothed samples (sigma %g, %g, %g): %d iterations, flips %s",
+                    options.presmooth[0], options.presmooth[1], options.presmooth[2], pre.iterations,
+                    pre.flips.summary().c_str());
+      log(line);
+    }
     const core::LawsonStats ls = core::optimize_lawson<3>(mesh, src.voxels, src.channels, cost, lawson);
     local.take(ls);
     local.tetrahedra = mesh.cell_count();

@@ -58,6 +58,13 @@ struct VolumeUpscaleOptions {
   // last samples sit on the input's first and last, so n samples enlarged
   // to (n - 1) * s + 1 keep every input sample at every s-th output sample.
   std::array<bool, 3> node_centred{};
+  // Graduated optimization: when a sigma is > 0, the Lawson procedure runs
+  // first on the samples smoothed by a Gaussian of that sigma (in samples)
+  // along each axis (presmooth.hpp), then on the samples themselves from
+  // the mesh it reached. The smoothed cost has fewer local minima, so flip
+  // sequences that an unsmoothed step would refuse get under way: on
+  // moving edges in space-time it is worth up to 12 dB (docs/sequences.md).
+  std::array<double, 3> presmooth{};
   std::function<void(const std::string&)> log;  // verbose lines; may be empty
 };
 
@@ -67,6 +74,7 @@ struct VolumeUpscaleStats : StageSeconds, OptimizerSummary<core::FlipCounts> {
   long long tetrahedra = 0;
   bool planar = false;          // handled by the 2D method (a single slice)
   long long planar_flips = 0;   // its 2D edge flips
+  long long presmooth_flips = 0;  // of the graduated optimization's first pass
 };
 
 // Outputs larger than this many voxels are refused by the command line and
