@@ -24,7 +24,7 @@ photo="$datasets/Set14/baboon.png"
 mkdir -p docs/sequences
 
 if [ "$what" = all ] || [ "$what" = experiments ]; then
-  "$bin" sequence-eval --methods blend,minterpolate,delaunay,ddt,ddt-cubic ${photo:+--photo "$photo"} \
+  "$bin" sequence-eval --methods blend,minterpolate,ddt-unsmoothed,ddt,ddt-cubic ${photo:+--photo "$photo"} \
     --pictures docs/sequences --table docs/sequences/experiments.md
 fi
 
