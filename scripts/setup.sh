@@ -11,6 +11,7 @@ packages=(
   libcsv-dev
   liblcms2-dev
   libopencv-dev libvips-dev libvips-tools
+  ffmpeg
   pybind11-dev python3-dev python3-numpy python3-pytest python3-dask python3-distributed
   clang libclang-rt-14-dev
 )

@@ -78,6 +78,12 @@ run_fail "bad cost" "$work/in/in_%04d.png" "$work/out/k_%04d.png" --time-scale 2
 # sequence-eval, small: every method but the photograph scenes.
 run_ok "sequence-eval" sequence-eval --scenes strokes --methods blend,ddt --size 24 --frames 3 -q
 grep -q "| strokes | ddt |" "$work/out.txt" && ok || bad "sequence-eval table: $(cat "$work/out.txt")"
+if command -v ffmpeg >/dev/null; then
+  run_ok "sequence-eval minterpolate" sequence-eval --scenes bar --methods blend,minterpolate --size 32 --frames 3 -q
+  grep -q "| bar | minterpolate |" "$work/out.txt" && ok || bad "minterpolate row missing: $(cat "$work/out.txt")"
+else
+  echo "cli_sequence_test: no ffmpeg, minterpolate not checked"
+fi
 run_fail "sequence-eval bad scene" sequence-eval --scenes nope --size 24 --frames 3 -q
 
 echo "cli_sequence_test: $passed passed, $failed failed"
