@@ -291,6 +291,55 @@ py::array upscale_volume(const py::array& array, const py::object& scale, const 
   return array_from_volume(result, in.dtype);
 }
 
+py::list upscale_sequence(const py::array& frames, int time_scale, const py::object& scale, const py::object& size,
+                          const py::dict& kwargs) {
+  SequenceCall call = sequence_call(kwargs);
+  if (frames.ndim() != 3 && frames.ndim() != 4)
+    throw ddt::Error("frames is a T x H x W or T x H x W x C array, not one of " + std::to_string(frames.ndim()) +
+                     " dimensions");
+  if (frames.shape(0) < 1) throw ddt::Error("the sequence has no frames");
+  if (time_scale < 1 || time_scale > 64) throw ddt::Error("--time-scale must be a whole number from 1 to 64");
+  std::vector<ddt::Image> in;
+  ImageArray first;
+  for (py::ssize_t t = 0; t < frames.shape(0); ++t) {
+    ImageArray a = image_from_array(frames[py::int_(t)]);
+    if (t == 0) first.dtype = a.dtype, first.planar = a.planar;
+    in.push_back(std::move(a.image));
+  }
+  const ddt::Image& f = in.front();
+  const auto factor = optional_arg<double>(scale, "scale");
+  if (factor && !size.is_none()) throw ddt::Error("give either --scale or --size, not both");
+  int out_w = f.width, out_h = f.height;
+  if (factor) {
+    if (!(*factor > 0) || !std::isfinite(*factor) || f.width * *factor > 65536 || f.height * *factor > 65536)
+      throw ddt::Error("--scale must be a positive number (outputs up to 65536 pixels a side)");
+    out_w = static_cast<int>(std::max(1.0, std::round(f.width * *factor)));
+    out_h = static_cast<int>(std::max(1.0, std::round(f.height * *factor)));
+  } else if (!size.is_none()) {
+    const std::vector<int> hw = size_values(size, 2, "size is (height, width) or one number for both");
+    out_h = hw[0], out_w = hw[1];
+    if (out_w < 1 || out_h < 1 || out_w > 65536 || out_h > 65536)
+      throw ddt::Error("--size wants sizes between 1 and 65536");
+  }
+  const int frames_out = ddt::sequence_output_frames(static_cast<int>(in.size()), time_scale);
+  if (static_cast<long long>(frames_out) * out_w * out_h > call.max_pixels)
+    throw ddt::Error("output " + std::to_string(frames_out) + " frames of " + std::to_string(out_w) + "x" +
+                     std::to_string(out_h) + " exceeds --max-pixels " + std::to_string(call.max_pixels));
+  call.options.volume.log = stderr_log(call.verbose);
+  std::vector<ddt::Image> out;
+  ddt::Progress progress;
+  call.options.progress = &progress;
+  run_interruptibly(progress, [&] {
+    const auto limit = ddt::limit_threads(call.threads);
+    ddt::upscale_sequence(
+        static_cast<int>(in.size()), f.width, f.height, f.channels, [&](int k) { return in[k]; }, out_w, out_h,
+        time_scale, call.options, [&](ddt::Image frame, int) { out.push_back(std::move(frame)); });
+  });
+  py::list result;
+  for (const ddt::Image& frame : out) result.append(array_from_image(frame, first.dtype, first.planar));
+  return result;
+}
+
 py::array grid(const py::array& points, const py::array& values, const py::object& size, const py::dict& kwargs) {
   const auto xy = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(points);
   if (!xy || xy.ndim() != 2 || xy.shape(1) != 2)
@@ -364,5 +413,8 @@ PYBIND11_MODULE(_ddtscale, m) {
   m.def("band_margin_needed", &ddt::band_margin_needed, py::arg("phases"), py::arg("region_rows"));
   m.def("region_rows", &region_rows, py::arg("width"), py::arg("height"), py::arg("options"));
   m.def("upscale_volume", &upscale_volume, py::arg("array"), py::arg("scale"), py::arg("size"), py::arg("options"));
+  m.def("sequence_defaults", &sequence_defaults);
+  m.def("upscale_sequence", &upscale_sequence, py::arg("frames"), py::arg("time_scale"), py::arg("scale"),
+        py::arg("size"), py::arg("options"));
   m.def("grid", &grid, py::arg("points"), py::arg("values"), py::arg("size"), py::arg("options"));
 }

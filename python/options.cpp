@@ -190,6 +190,54 @@ VolumeCall volume_call(const py::dict& kwargs) {
   return c;
 }
 
+py::dict sequence_defaults() {
+  const SequenceCall c;
+  py::dict d;
+  d["method"] = c.options.volume.method;
+  d["cost"] = c.options.volume.cost;
+  d["render"] = ddt::to_string(c.options.volume.render);
+  d["slopes"] = ddt::to_string(c.options.volume.slopes);
+  d["presmooth"] = c.options.volume.presmooth[0];
+  d["tolerance"] = c.options.volume.relative_tolerance;
+  d["time_tile"] = c.options.tile_frames;
+  d["time_margin"] = c.options.margin_frames;
+  d["max_pixels"] = c.max_pixels;
+  d["verbose"] = c.verbose;
+  d["threads"] = c.threads;
+  return d;
+}
+
+SequenceCall sequence_call(const py::dict& kwargs) {
+  const Keywords k(kwargs, sequence_defaults());
+  SequenceCall c;
+  ddt::VolumeUpscaleOptions& o = c.options.volume;
+  k.get("method", o.method);
+  if (o.method != "ddt" && o.method != "delaunay")
+    throw ddt::Error("--method must be one of ddt, delaunay, not '" + o.method + "'");
+  k.get("cost", o.cost);
+  ddt::find_cost(o.cost);
+  std::string name;
+  if (k.get("render", name)) o.render = ddt::render_by_name(name);
+  if (k.get("slopes", name)) o.slopes = ddt::slope_limiter_by_name(name);
+  double sigma = o.presmooth[0];
+  k.get("presmooth", sigma);
+  if (!(sigma >= 0 && sigma <= 16)) throw ddt::Error("--presmooth must be a sigma in [0, 16] pixels");
+  o.presmooth = {sigma, sigma, 0.0};
+  k.get("tolerance", o.relative_tolerance);
+  check_unit_range(o.relative_tolerance, "--tolerance");
+  k.get("time_tile", c.options.tile_frames);
+  if (c.options.tile_frames < 0) throw ddt::Error("--time-tile must be at least 1 (0: automatic)");
+  k.get("time_margin", c.options.margin_frames);
+  if (c.options.margin_frames < 0 || c.options.margin_frames > 1000)
+    throw ddt::Error("--time-margin must be between 0 and 1000 frames");
+  k.get("max_pixels", c.max_pixels);
+  if (c.max_pixels <= 0) throw ddt::Error("--max-pixels must be positive");
+  k.get("verbose", c.verbose);
+  k.get("threads", c.threads);
+  check_threads(c.threads);
+  return c;
+}
+
 py::dict grid_defaults() {
   const GridCall c;
   py::dict d;

@@ -11,6 +11,7 @@
 
 #include "scattered/gridding.hpp"
 #include "pipeline/upscale.hpp"
+#include "volume/sequence_upscale.hpp"
 #include "volume/volume_upscale.hpp"
 
 #include <pybind11/pybind11.h>
@@ -40,6 +41,13 @@ struct VolumeCall {
   bool verbose = false;
 };
 
+struct SequenceCall {
+  ddt::SequenceUpscaleOptions options;
+  long long max_pixels = ddt::default_max_voxels;  // frames x width x height of the output
+  int threads = 0;
+  bool verbose = false;
+};
+
 struct GridCall {
   ddt::GridOptions options;
   long long max_pixels = ddt::default_max_pixels;
@@ -51,9 +59,11 @@ struct GridCall {
 py::dict image_defaults();
 py::dict volume_defaults();
 py::dict grid_defaults();
+py::dict sequence_defaults();
 
 ImageCall image_call(const py::dict& kwargs);
 VolumeCall volume_call(const py::dict& kwargs);
 GridCall grid_call(const py::dict& kwargs, int channels);
+SequenceCall sequence_call(const py::dict& kwargs);
 
 }  // namespace ddtpy

@@ -9,7 +9,8 @@ surface on the mesh is rendered at the new size.
     >>> ddtscale.upscale(image, 4).shape
     (128, 128, 3)
 
-Functions: upscale (images), upscale_volume (volumes), grid (scattered
+Functions: upscale (images), upscale_volume (volumes), upscale_sequence
+(frame-rate upsampling of image sequences), grid (scattered
 points), and ddtscale.dask.upscale / upscale_files (Dask). Options are the
 command line's (`ddtscale --help`), with '-' written '_'; their defaults
 are in UPSCALE_OPTIONS, VOLUME_OPTIONS and GRID_OPTIONS. Bad input raises
@@ -26,12 +27,15 @@ import numpy as np
 
 from . import _ddtscale
 
-__all__ = ["upscale", "upscale_volume", "grid", "UPSCALE_OPTIONS", "VOLUME_OPTIONS", "GRID_OPTIONS"]
+__all__ = ["upscale", "upscale_volume", "upscale_sequence", "grid", "UPSCALE_OPTIONS", "VOLUME_OPTIONS",
+           "SEQUENCE_OPTIONS", "GRID_OPTIONS"]
 
 #: The keyword options of upscale() and their defaults (the library's).
 UPSCALE_OPTIONS: dict = dict(_ddtscale.upscale_defaults())
 #: The keyword options of upscale_volume() and their defaults.
 VOLUME_OPTIONS: dict = dict(_ddtscale.volume_defaults())
+#: The keyword options of upscale_sequence() and their defaults.
+SEQUENCE_OPTIONS: dict = dict(_ddtscale.sequence_defaults())
 #: The keyword options of grid() and their defaults.
 GRID_OPTIONS: dict = dict(_ddtscale.grid_defaults())
 
@@ -48,6 +52,11 @@ def upscale(array: np.ndarray, scale: Optional[float] = None,
 def upscale_volume(array: np.ndarray, scale: Optional[float] = None,
                    size: Union[int, Tuple[int, int, int], None] = None, **options: Any) -> np.ndarray:
     return _ddtscale.upscale_volume(array, scale, size, options)
+
+
+def upscale_sequence(frames: np.ndarray, time_scale: int = 1, scale: Optional[float] = None,
+                     size: Union[int, Tuple[int, int], None] = None, **options: Any) -> np.ndarray:
+    return np.stack(_ddtscale.upscale_sequence(frames, time_scale, scale, size, options))
 
 
 def grid(points: np.ndarray, values: np.ndarray, size: Union[int, Tuple[int, int]],
@@ -94,6 +103,24 @@ upscale_volume.__doc__ = f"""Enlarge a scalar volume by data-dependent tetrahedr
 
     Options (`ddtscale in.nrrd out.nrrd --help`), with their defaults:
 {_options_doc(VOLUME_OPTIONS)}
+    Raises ValueError with the command line's message on bad input.
+    """
+
+upscale_sequence.__doc__ = f"""Frame-rate upsampling (and enlargement) of an image sequence by
+    data-dependent tetrahedrization of (x, y, t) (docs/sequences.md).
+
+    frames      T x H x W or T x H x W x C array: uint8, uint16 (read as 0..1),
+                float32 or float64, as upscale() takes images
+    time_scale  frames made per input frame, a whole number: T frames become
+                (T - 1) * time_scale + 1, frame k * time_scale is input frame k
+    scale       spatial magnification of every frame (default 1); or
+    size        (height, width) of the output frames, or one number for both
+
+    Returns a (T - 1) * time_scale + 1 x H' x W' [x C] array of the input's
+    dtype.
+
+    Options (`ddtscale in_%04d.png out_%04d.png --help`), with their defaults:
+{_options_doc(SEQUENCE_OPTIONS)}
     Raises ValueError with the command line's message on bad input.
     """
 

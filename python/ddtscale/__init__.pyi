@@ -1,6 +1,6 @@
 # Type stub of the ddtscale package: the keyword options spelled out for
 # editors and type checkers. Their defaults are the library's, listed at run
-# time in UPSCALE_OPTIONS, VOLUME_OPTIONS and GRID_OPTIONS (and in each
+# time in UPSCALE_OPTIONS, VOLUME_OPTIONS, SEQUENCE_OPTIONS and GRID_OPTIONS (and in each
 # function's docstring); "..." here stands for them.
 from typing import Any, Literal, Optional, Sequence, Tuple, Union
 
@@ -8,6 +8,7 @@ import numpy as np
 
 UPSCALE_OPTIONS: dict[str, Any]
 VOLUME_OPTIONS: dict[str, Any]
+SEQUENCE_OPTIONS: dict[str, Any]
 GRID_OPTIONS: dict[str, Any]
 
 _Optimizer = Literal["lawson", "anneal", "lookahead"]
@@ -65,6 +66,25 @@ def upscale_volume(
     slopes: Literal["mc4", "mc", "central", "minmod"] = ...,
     tolerance: float = ...,
     max_voxels: int = ...,
+    verbose: bool = ...,
+    threads: int = ...,
+) -> np.ndarray: ...
+
+def upscale_sequence(
+    frames: np.ndarray,
+    time_scale: int = 1,
+    scale: Optional[float] = None,
+    size: Union[int, Tuple[int, int], None] = None,
+    *,
+    method: Literal["ddt", "delaunay"] = ...,
+    cost: str = ...,
+    render: Literal["linear", "cubic"] = ...,
+    slopes: Literal["mc4", "mc", "central", "minmod"] = ...,
+    presmooth: float = ...,
+    tolerance: float = ...,
+    time_tile: int = ...,
+    time_margin: int = ...,
+    max_pixels: int = ...,
     verbose: bool = ...,
     threads: int = ...,
 ) -> np.ndarray: ...

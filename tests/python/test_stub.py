@@ -18,3 +18,4 @@ def test_stub_lists_the_options():
     assert stub_keywords("upscale") == set(ddtscale.UPSCALE_OPTIONS)
     assert stub_keywords("upscale_volume") == set(ddtscale.VOLUME_OPTIONS)
     assert stub_keywords("grid") | {"bounds"} == set(ddtscale.GRID_OPTIONS)
+    assert stub_keywords("upscale_sequence") == set(ddtscale.SEQUENCE_OPTIONS)

@@ -1,0 +1,66 @@
+# ddtscale.upscale_sequence: frame-rate upsampling on numpy arrays.
+import re
+import subprocess
+
+import numpy as np
+import pytest
+
+import ddtscale
+
+
+def moving_edge(frames, step, shape=(16, 24), dtype=np.uint8):
+    out = np.zeros((frames,) + shape, dtype)
+    top = np.iinfo(dtype).max if np.issubdtype(dtype, np.integer) else 1.0
+    for t in range(frames):
+        out[t, :, 4 + step * t:] = top
+    return out
+
+
+def test_frames_kept_and_counted_dtype_kept():
+    for dtype in (np.uint8, np.uint16, np.float32, np.float64):
+        f = moving_edge(3, 3, dtype=dtype)
+        out = ddtscale.upscale_sequence(f, 4)
+        assert out.shape == (9, 16, 24) and out.dtype == dtype
+        assert (out[::4] == f).all()
+
+
+def test_the_edge_moves_between_the_frames_instead_of_fading():
+    f = moving_edge(2, 4)  # the edge at x = 4, then x = 8
+    mid = ddtscale.upscale_sequence(f, 2)[1]
+    row = mid[8].astype(float) / 255
+    assert row[:5].max() < 0.05 and row[7:].min() > 0.95  # a step at x = 6, not two half steps
+    blend = (f[0].astype(float) + f[1]) / 2 / 255
+    assert abs(blend[8, 5] - 0.5) < 0.01  # what blending would show there
+
+
+def test_colour_space_scale_and_size():
+    f = np.stack([moving_edge(3, 2)] * 3, axis=-1)
+    assert ddtscale.upscale_sequence(f, 2, scale=2).shape == (5, 32, 48, 3)
+    assert ddtscale.upscale_sequence(f, 3, size=(20, 30)).shape == (7, 20, 30, 3)
+    assert ddtscale.upscale_sequence(f[:, ::-1], 2).shape == (5, 16, 24, 3)  # negative strides accepted
+
+
+@pytest.mark.parametrize("frames,kwargs,message", [
+    (np.zeros((0, 8, 8), np.uint8), {}, "no frames"),
+    (np.zeros((8, 8), np.uint8), {}, "dimensions"),
+    (np.zeros((2, 8, 8), np.uint8), dict(time_scale=0), "--time-scale"),
+    (np.zeros((2, 8, 8), np.uint8), dict(presmooth=-1), "--presmooth"),
+    (np.zeros((2, 8, 8), np.uint8), dict(method="tricubic"), "--method"),
+    (np.zeros((2, 8, 8), np.uint8), dict(nope=1), "nope"),
+    (np.full((2, 8, 8), np.nan, np.float32), {}, "NaN"),
+])
+def test_bad_input_raises_value_error(frames, kwargs, message):
+    time_scale = kwargs.pop("time_scale", 2)
+    with pytest.raises(ValueError, match=re.escape(message)):
+        ddtscale.upscale_sequence(frames, time_scale, **kwargs)
+
+
+def test_options_match_the_command_line(cli):
+    out = subprocess.run([cli, "in_%04d.png", "out_%04d.png", "--help"], capture_output=True, text=True,
+                         check=True).stdout
+    flags = set(re.findall(r"^\s+(?:-\w,)?--([a-z][a-z0-9-]*)", out, re.MULTILINE))
+    # positional or per call: time-scale, scale, size; how files are encoded
+    not_keywords = {"help", "time-scale", "scale", "size", "compression", "quality", "half", "float", "tile-size",
+                    "quiet"}
+    assert flags - not_keywords == {k.replace("_", "-") for k in ddtscale.SEQUENCE_OPTIONS}
+    assert ddtscale.upscale_sequence.__doc__ and "presmooth" in ddtscale.upscale_sequence.__doc__
