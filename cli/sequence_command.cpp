@@ -65,6 +65,9 @@ static int run_sequence_eval(int argc, char** argv) {
   app.add_option("--time-scale", options.time_scale, "frames made per kept frame")
       ->check(whole_number(2, 64))
       ->capture_default_str();
+  app.add_option("--presmooth", options.presmooth,
+                 "the ddt methods' --presmooth sigma (default: the sequence command's; ddt-unsmoothed stays 0)")
+      ->check(CLI::Range(0.0, 16.0));
   app.add_option("--photo", options.photo,
                  "photograph for pan and zoom (any image at least 2 x the frame size plus the motion; without it "
                  "they are skipped), e.g. ../shared/datasets/Set14/baboon.png");

@@ -110,8 +110,10 @@ std::vector<Image> minterpolate(const std::vector<Image>& frames, int time_scale
   return result;
 }
 
-std::vector<Image> ddt_frames(const std::vector<Image>& frames, int time_scale, const std::string& method) {
+std::vector<Image> ddt_frames(const std::vector<Image>& frames, int time_scale, const std::string& method,
+                              double presmooth) {
   SequenceUpscaleOptions o;
+  if (presmooth >= 0) o.volume.presmooth = {presmooth, presmooth, 0.0};
   const std::size_t colon = method.find(':');
   const std::string base = method.substr(0, colon);
   if (colon != std::string::npos) o.volume.cost = method.substr(colon + 1);
@@ -208,7 +210,7 @@ std::vector<SequenceExperimentRow> run_sequence_experiments(const SequenceExperi
       const auto t0 = Clock::now();
       std::vector<Image> made = m == "blend"          ? blend_frames(input, o.time_scale)
                                 : m == "minterpolate" ? minterpolate(input, o.time_scale, o.ffmpeg)
-                                                      : ddt_frames(input, o.time_scale, m);
+                                                      : ddt_frames(input, o.time_scale, m, o.presmooth);
       SequenceExperimentRow row{name, m, 0, std::numeric_limits<double>::infinity(), seconds_since(t0)};
       int count = 0;
       for (int t = 0; t < full; ++t) {

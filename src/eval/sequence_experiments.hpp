@@ -42,6 +42,7 @@ struct SequenceExperimentOptions {
   int input_frames = 17;
   int time_scale = 4;
   double speed = 1;  // multiplies the scenes' motion
+  double presmooth = -1;  // >= 0: the ddt methods' --presmooth (ddt-unsmoothed stays 0); < 0: the default
   std::vector<std::string> scenes = {"disk", "bar", "strokes", "pan", "zoom"};
   std::vector<std::string> methods = {"blend", "minterpolate", "delaunay", "ddt"};
   std::string photo;        // path of the photograph for pan and zoom ("" skips them, with a note)
