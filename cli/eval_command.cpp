@@ -1,6 +1,7 @@
 // `ddtscale eval` — runs the evaluation protocol of evaluation.hpp and
 // prints one table per image, then the means per scale and method.
 
+#include "command_line.hpp"
 #include "commands.hpp"
 #include "whole_number.hpp"
 
@@ -58,13 +59,6 @@ void print_edge_summary(const std::vector<ddt::EvalEdgeSummary>& summaries) {
     std::printf("  %5s  %-18s %9.3f %9.3f %9.4f %9.4f %9.2f %9.2f\n", ("x" + std::to_string(e.scale)).c_str(),
                 e.method.c_str(), e.rise_width, e.rise_width_max, e.wobble, e.wobble_max, e.overshoot_max,
                 e.halo_max);
-}
-
-// Messages from libraries may span lines; the command promises one line on stderr.
-std::string one_line(std::string s) {
-  s = s.substr(0, s.find('\n'));
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\r')) s.pop_back();
-  return s;
 }
 
 // Exit statuses: 2 for bad arguments, 1 when the work fails (a missing set,

@@ -2,6 +2,7 @@
 // grid by data-dependent triangulation; see src/scattered/gridding.hpp for the grid
 // convention and src/scattered/point_table.hpp for the input formats.
 
+#include "command_line.hpp"
 #include "commands.hpp"
 #include "whole_number.hpp"
 
@@ -35,12 +36,6 @@ std::string lower(std::string s) {
 }
 
 // Messages from libraries may span lines; the command promises one line on stderr.
-std::string one_line(std::string s) {
-  s = s.substr(0, s.find('\n'));
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\r')) s.pop_back();
-  return s;
-}
-
 // A number, or nan (for no-data values); throws ddt::Error naming the option.
 double parse_double(const std::string& text, const std::string& option, bool allow_nan) {
   std::string s = text;
@@ -177,13 +172,8 @@ int run_grid_command(int argc, char** argv) {
       "Points at the same position are merged: one point with the mean of their values.\n"
       "Example: ddtscale grid points.csv dem.exr --size 512x512 --bounds 0,0,1000,1000");
 
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    if (e.get_exit_code() == 0) return app.exit(e);  // --help
-    std::cerr << "ddtscale grid: " << one_line(e.what()) << " (see ddtscale grid --help)\n";
-    return 2;
-  }
+  if (const auto status = parse_command_line(app, argc, argv, "ddtscale grid", "ddtscale grid --help"))
+    return *status;
 
   try {
     auto log = [&](const std::string& line) {

@@ -3,6 +3,7 @@
 // the synthetic reference inputs in images/ and handy for trying upscalers
 // against a known high-resolution answer.
 
+#include "command_line.hpp"
 #include "commands.hpp"
 
 #include "util/error.hpp"
@@ -22,15 +23,8 @@ int run_scene_command(int argc, char** argv) {
   app.add_option("output", output, "output image; format from the extension (EXR keeps float)");
   app.add_option("--size", size, "width x height in pixels")->capture_default_str();
   app.add_flag("--list", list, "list the scenes and exit");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp&) {
-    std::cout << app.help();
-    return 0;
-  } catch (const CLI::ParseError& e) {
-    std::cerr << "ddtscale scene: " << e.what() << " (see ddtscale scene --help)\n";
-    return 2;
-  }
+  if (const auto status = parse_command_line(app, argc, argv, "ddtscale scene", "ddtscale scene --help"))
+    return *status;
   try {
     if (list) {
       for (const ddt::Scene& s : ddt::standard_scenes()) std::cout << s.name << "\t" << s.description << "\n";

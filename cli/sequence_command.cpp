@@ -1,6 +1,7 @@
 // Image sequences on the command line (volume/sequence_upscale.hpp):
 //   ddtscale frames/in_%04d.png out/out_%04d.png --time-scale 4 [--scale 2]
 
+#include "command_line.hpp"
 #include "commands.hpp"
 #include "output_options.hpp"
 #include "whole_number.hpp"
@@ -75,24 +76,9 @@ static int run_sequence_eval(int argc, char** argv) {
   app.add_option("--pictures", options.picture_dir, "write <scene>-frames.png and <scene>-xt.png into this directory");
   app.add_option("--table", table, "also write the Markdown table to this file");
   app.add_flag("-q,--quiet", quiet, "print the table only");
+  if (const auto status = parse_command_line(app, argc, argv, "ddtscale sequence-eval")) return *status;
   try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp&) {
-    std::cout << app.help();
-    return 0;
-  } catch (const CLI::ParseError& e) {
-    std::cerr << "ddtscale sequence-eval: " << e.what() << "\n";
-    return 2;
-  }
-  try {
-    if (!size_spec.empty()) {
-      char extra = 0;
-      const int n = std::sscanf(size_spec.c_str(), "%dx%d%c", &options.width, &options.height, &extra);
-      if (n == 1) options.height = options.width;
-      if ((n != 1 && n != 2) || options.width < 4 || options.height < 4 || options.width > 4096 ||
-          options.height > 4096)
-        throw ddt::Error("--size wants N or WxH between 4 and 4096, got '" + size_spec + "'");
-    }
+    if (!size_spec.empty()) parse_width_height(size_spec, "--size", 4, 4096, options.width, options.height);
     if (!quiet) options.log = [](const std::string& line) { std::cerr << line << "\n"; };
     const std::string text = ddt::sequence_experiment_table(ddt::run_sequence_experiments(options));
     std::cout << text;
@@ -114,22 +100,10 @@ static int run_sequence_scene(int argc, char** argv) {
   app.add_option("--frames", frames, "frames to write")->check(whole_number(1, 100000))->capture_default_str();
   app.add_option("--size", size_spec, "frame size, N or WxH")->capture_default_str();
   app.add_option("--photo", photo, "photograph for pan and zoom");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp&) {
-    std::cout << app.help();
-    return 0;
-  } catch (const CLI::ParseError& e) {
-    std::cerr << "ddtscale sequence-scene: " << e.what() << "\n";
-    return 2;
-  }
+  if (const auto status = parse_command_line(app, argc, argv, "ddtscale sequence-scene")) return *status;
   try {
     int w = 0, h = 0;
-    char extra = 0;
-    const int n = std::sscanf(size_spec.c_str(), "%dx%d%c", &w, &h, &extra);
-    if (n == 1) h = w;
-    if ((n != 1 && n != 2) || w < 1 || h < 1 || w > 16384 || h > 16384)
-      throw ddt::Error("--size wants N or WxH between 1 and 16384, got '" + size_spec + "'");
+    parse_width_height(size_spec, "--size", 1, 16384, w, h);
     const ddt::SequenceScene& s = ddt::find_sequence_scene(scene);
     const ddt::FramePattern pattern = ddt::parse_frame_pattern(output);
     ddt::check_output_path(pattern.path(0), "");
@@ -232,15 +206,9 @@ static int run_sequence_upscale(int argc, char** argv) {
       "written: a failed run leaves no output frame behind and replaces none; input frames are never replaced.\n"
       "Colour: one tetrahedrization for all channels, the cost summed over them (alpha included).\n"
       "Example: ddtscale shot/in_%04d.png slow/out_%04d.png --time-scale 4");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp&) {
-    std::cout << app.help();
-    return 0;
-  } catch (const CLI::ParseError& e) {
-    std::cerr << "ddtscale: " << e.what() << " (see ddtscale in_%04d.png out_%04d.png --help)\n";
-    return 2;
-  }
+  if (const auto status =
+          parse_command_line(app, argc, argv, "ddtscale", "ddtscale in_%04d.png out_%04d.png --help"))
+    return *status;
 
   try {
     ddt::find_cost(cost);
@@ -270,10 +238,7 @@ static int run_sequence_upscale(int argc, char** argv) {
     ddt::ImageReadLimits limits;
     limits.check = [&](const ddt::ImageHeader& h) {
       if (!size_spec.empty()) {
-        char extra = 0;
-        if (std::sscanf(size_spec.c_str(), "%dx%d%c", &out_w, &out_h, &extra) != 2 || out_w < 1 || out_h < 1 ||
-            out_w > 65536 || out_h > 65536)
-          throw ddt::Error("--size wants WxH between 1 and 65536, got '" + size_spec + "'");
+        parse_width_height(size_spec, "--size", 1, 65536, out_w, out_h);
       } else {
         out_w = static_cast<int>(std::max(1.0, std::round(h.width * scale)));
         out_h = static_cast<int>(std::max(1.0, std::round(h.height * scale)));
