@@ -23,6 +23,7 @@
 
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -223,6 +224,14 @@ static int run_sequence_upscale(int argc, char** argv) {
     if (out_pattern.path(first_number) == in_pattern.path(first_number))
       throw ddt::Error("the output pattern '" + output + "' names the input frames");
     const int out_frames = ddt::sequence_output_frames(frames, time_scale);
+    // Any spelling of an input frame among the outputs is refused before the work.
+    std::vector<ddt::FileId> input_ids;
+    for (const std::string& path : input_paths)
+      if (const auto id = ddt::file_id(path)) input_ids.push_back(*id);
+    for (int k = 0; k < out_frames; ++k)
+      if (const auto id = ddt::file_id(out_pattern.path(first_number + k));
+          id && std::find(input_ids.begin(), input_ids.end(), *id) != input_ids.end())
+        throw ddt::Error("output frame '" + out_pattern.path(first_number + k) + "' is an input frame");
     ddt::check_output_path(out_pattern.path(first_number), input_paths.front());
     ddt::check_encode_options(out_pattern.path(first_number), writing.encode);
 

@@ -57,6 +57,8 @@ grep -q -- "--time-scale" "$work/out.txt" && ok || bad "--help does not describe
 # Bad input: one line, non-zero exit, nothing written.
 run_fail "no match" "$work/none_%04d.png" "$work/out/n_%04d.png" --time-scale 2
 run_fail "same pattern" "$work/in/in_%04d.png" "$work/in/in_%04d.png" --time-scale 2
+run_fail "an input by another spelling" "$work/in/in_%04d.png" "$work/in/../in/in_%04d.png" --time-scale 2
+grep -q "is an input frame" "$work/err.txt" && ok || bad "another spelling of the input: $(cat "$work/err.txt")"
 run_fail "time scale 0" "$work/in/in_%04d.png" "$work/out/z_%04d.png" --time-scale 0
 run_fail "two numbers" "$work/in/in_%04d_%d.png" "$work/out/z_%04d.png" --time-scale 2
 run_fail "no extension" "$work/in/in_%04d.png" "$work/out/z_%04d" --time-scale 2
