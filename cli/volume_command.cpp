@@ -208,14 +208,15 @@ int run_volume_upscale(int argc, char** argv) {
     ddt::check_volume_output_path(output, input, read_options);
     for (const auto& m : compare) ddt::check_volume_output_path(sibling_path(output, m), input, read_options);
     if (!picture.empty()) ddt::check_output_path(picture, input);
+    const bool time_given = app.count("--time-scale") > 0;
     if (scale != 0 && !size_spec.empty()) throw ddt::Error("give either --scale or --size, not both");
-    if (scale == 0 && size_spec.empty() && time_scale == 0)
+    if (scale == 0 && size_spec.empty() && !time_given)
       throw ddt::Error("give the magnification: --scale S (and --time-scale T), or --size N, XxYxZ or XxYxZxT");
     if (scale != 0 && (!(scale > 0) || !std::isfinite(scale))) throw ddt::Error("--scale must be a positive number");
-    if (time_scale != 0 && (!(time_scale > 0) || !std::isfinite(time_scale)))
+    if (time_given && (!(time_scale > 0) || !std::isfinite(time_scale)))
       throw ddt::Error("--time-scale must be a positive number");
     const std::array<int, 4> size_given = size_spec.empty() ? std::array<int, 4>{} : parse_size(size_spec);
-    if (size_given[3] != 0 && time_scale != 0) throw ddt::Error("give the steps either in --size or by --time-scale");
+    if (size_given[3] != 0 && time_given) throw ddt::Error("give the steps either in --size or by --time-scale");
 
     auto log = [&](const std::string& line) {
       if (verbose) std::cerr << line << "\n";
@@ -228,10 +229,10 @@ int run_volume_upscale(int argc, char** argv) {
       // Is the input a series? Its header says so; time steps are instants
       // (the header's centring is honoured after the read: the check only sizes the job).
       const bool series = in[3] > 1;
-      if (!series && (time_scale != 0 || size_given[3] > 1))
+      if (!series && (time_given || size_given[3] > 1))
         throw ddt::Error("--time-scale and a time size apply to volume series (4 axes); '" + input +
                          "' is a 3D volume");
-      const double space = scale != 0 ? scale : 1.0, time = time_scale != 0 ? time_scale : space;
+      const double space = scale != 0 ? scale : 1.0, time = time_given ? time_scale : space;
       for (int a = 0; a < 4; ++a) {
         const double n = a < 3 ? std::round(in[a] * space) : std::round((in[3] - 1) * time) + 1;
         if (n > 65536) throw ddt::Error("--scale gives an output larger than --max-voxels");
@@ -257,10 +258,17 @@ int run_volume_upscale(int argc, char** argv) {
     const bool series = src.nt > 1;
     // A time axis whose header says its steps are cells: n steps become n * T.
     if (series && !file.node_centred[3] && size_given[3] == 0)
-      out[3] = static_cast<int>(std::max(1.0, std::round(src.nt * (time_scale != 0 ? time_scale
+      out[3] = static_cast<int>(std::max(1.0, std::round(src.nt * (time_given ? time_scale
                                                                                     : scale != 0 ? scale : 1.0))));
     if (!series && method != "ddt" && method != "delaunay" && method != "trilinear" && method != "tricubic")
       throw ddt::Error("--method " + method + " is for volume series (4 axes); '" + input + "' is a 3D volume");
+    for (const auto& m : compare) {
+      if (series && (m == "trilinear" || m == "tricubic"))
+        throw ddt::Error("--compare " + m + " is for 3D volumes; a series compares with quadrilinear or "
+                         "tricubic-linear");
+      if (!series && (m == "quadrilinear" || m == "tricubic-linear"))
+        throw ddt::Error("--compare " + m + " is for volume series; a 3D volume compares with trilinear or tricubic");
+    }
     const ddt::VolumeSampleType out_type = same_type ? file.type : forced_type;
     const ddt::VolumeEncoding out_encoding = same_encoding ? file.encoding : forced_encoding;
     ddt::VolumeUpscaleOptions options;
@@ -289,11 +297,6 @@ int run_volume_upscale(int argc, char** argv) {
     for (const auto& m : compare) {
       ddt::VolumeUpscaleOptions o = options;
       o.method = m;
-      if (series && (m == "trilinear" || m == "tricubic"))
-        throw ddt::Error("--compare " + m + " is for 3D volumes; a series compares with quadrilinear or "
-                         "tricubic-linear");
-      if (!series && (m == "quadrilinear" || m == "tricubic-linear"))
-        throw ddt::Error("--compare " + m + " is for volume series; a 3D volume compares with trilinear or tricubic");
       baselines.push_back(ddt::upscale_volume(src, out, o));
       const std::string path = sibling_path(output, m);
       ddt::write_volume(path, baselines.back(), out_type, out_encoding, file.header.get(),
