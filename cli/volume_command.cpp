@@ -78,12 +78,12 @@ int fail(const char* who, const std::exception& e) {
 // as floats (8 bytes an output voxel with the stored copy and the ownership
 // count), one more output per --compare method, and for the mesh methods the
 // triangulation (about 0.5 KB an input voxel in 3D, 6 tetrahedra; in 4D
-// 24 simplices a sample, measured 2.6 KB, docs/volumes.md) and the cubic
+// 24 simplices a sample, about 1.7 KB measured at 32^3 x 16, docs/volumes.md) and the cubic
 // render's gradients (D floats an input voxel).
 double volume_job_bytes(const std::string& method, std::size_t compares, double in_voxels, double out_voxels,
                         int channels, bool series) {
   const bool mesh = method == "ddt" || method == "delaunay";
-  const double mesh_bytes = series ? 2600.0 : 512.0;
+  const double mesh_bytes = series ? 1800.0 : 512.0;
   return channels * ((mesh ? 20.0 : 4.0) * in_voxels + 8.0 * out_voxels * double(1 + compares)) +
          (mesh ? mesh_bytes * in_voxels : 0.0);
 }
@@ -180,7 +180,7 @@ int run_volume_upscale(int argc, char** argv) {
       "Series (4 axes x, y, z, t): time steps are instants (node-centred) unless the header's time axis\n"
       "says \"centers: cell\": n steps enlarged by T become (n - 1) * T + 1, output step T * k is input\n"
       "step k, and the output's time axis is written node-centred with spacing / T, same min and max.\n"
-      "Memory: about 24 4-simplices per input sample (some 2.6 KB); --max-voxels and the physical memory\n"
+      "Memory: about 24 4-simplices per input sample (some 1.7 KB); --max-voxels and the physical memory\n"
       "bound the job before any work.\n"
       "Other volume commands: ddtscale volume-eval --help, ddtscale volume-field --help.\n"
       "Example: ddtscale head.nrrd head_x4.nrrd --scale 4 --compare trilinear --picture head.png -v\n"
