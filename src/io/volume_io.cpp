@@ -490,8 +490,9 @@ void write_volume(const std::string& path, const Volume& volume, VolumeSampleTyp
   // A series has four domain axes; so has the output of a series' header.
   const bool series = volume.nt > 1 || (like && like->nrrd->dim == 4 + axis0);
   const unsigned spatial = flat ? 2 : series ? 4 : 3;
-  if (like && like->nrrd->dim != spatial + axis0)
-    throw Error("cannot write '" + path + "': the volume has another number of axes than its input");
+  // (A one-slice input enlarged along its thin axis is written with 3 axes, as always.)
+  if (series && like && like->nrrd->dim != spatial + axis0)
+    throw Error("cannot write '" + path + "': a volume series written with the header of a 3D volume");
   std::size_t sizes[5] = {channels, std::size_t(volume.nx), std::size_t(volume.ny), std::size_t(volume.nz),
                           std::size_t(volume.nt)};
   const int allocated = wrapped ? nrrdWrap_nva(nout, const_cast<float*>(volume.voxels.data()), info.teem,

@@ -170,6 +170,9 @@ TEST_CASE("read_volume: a 2-axis NRRD is one slice; a leading axis of size 1 is 
   CHECK(s.volume.ny == 2);
   CHECK(s.volume.nz == 1);
   CHECK(s.encoding == VolumeEncoding::ascii);
+  // Enlarged along its thin axis too, it is written with 3 axes (as before series).
+  write_volume(dir / "slice2.nrrd", Volume(6, 4, 2), s.type, VolumeEncoding::raw, s.header.get());
+  CHECK(read_volume(dir / "slice2.nrrd").volume.size() == std::array<int, 4>{6, 4, 2, 1});
   const VolumeFile f = read_volume(dir / "scalar4.nrrd");
   CHECK(f.volume.nx == 2);
   CHECK(f.volume.nz == 2);
@@ -310,7 +313,7 @@ Volume ramp4(const std::array<int, 4>& size, int channels = 1) {
 
 }  // namespace
 
-TEST_CASE("read_volume / write_volume: a 4-axis series round-trips; time node-centred, spacing / s, space as in 3D") {
+TEST_CASE("read_volume / write_volume: a 4-axis series round-trips, time node-centred with spacing / s, space as in 3D") {
   TempDir dir;
   const Volume v = ramp4({4, 5, 3, 6});
   write_series_nrrd(dir / "series.nrrd", v, nrrdCenterNode);
@@ -340,7 +343,7 @@ TEST_CASE("read_volume / write_volume: a 4-axis series round-trips; time node-ce
   CHECK(back.node_centred[3]);
 }
 
-TEST_CASE("read_volume: a time axis said to be cells is cell-centred; unknown centring is node (instants)") {
+TEST_CASE("read_volume: a time axis said to be cells is cell-centred, unknown centring is node (instants)") {
   TempDir dir;
   const Volume v = ramp4({3, 3, 3, 4});
   write_series_nrrd(dir / "cells.nrrd", v, nrrdCenterCell);
