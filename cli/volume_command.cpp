@@ -1,7 +1,8 @@
 // Volumes on the command line:
 //   ddtscale in.nrrd out.nrrd --scale 4 [--cost variance] [--compare trilinear] [--picture views.png]
 //   ddtscale volume-eval [--size 32 --scale 4 --pictures DIR --table FILE]
-//   ddtscale volume-field NAME out.nrrd [--size 32]
+//   ddtscale volume-eval --series [--size 32 --steps 16 --scale 2 --time-scale 4]
+//   ddtscale volume-field NAME out.nrrd [--size 32] [--steps 16]
 
 #include "commands.hpp"
 #include "whole_number.hpp"
@@ -14,6 +15,7 @@
 #include "eval/volume_fields.hpp"
 #include "io/volume_io.hpp"
 #include "eval/volume_pictures.hpp"
+#include "eval/volume_series_experiments.hpp"
 #include "volume/volume_upscale.hpp"
 #include "util/thread_limit.hpp"
 #include "util/timing.hpp"
@@ -42,14 +44,17 @@ double peak_memory_mb() {
   return ru.ru_maxrss / 1024.0;  // Linux reports kilobytes
 }
 
-// "N" or "XxYxZ" -> three sizes >= 1; throws ddt::Error.
-void parse_size(const std::string& text, int size[3]) {
+// "N", "XxYxZ" or "XxYxZxT" -> sizes >= 1 (size[3] = 0 when no T is given);
+// throws ddt::Error.
+std::array<int, 4> parse_size(const std::string& text) {
+  std::array<int, 4> size{0, 0, 0, 0};
   char extra = 0;
-  const int n = std::sscanf(text.c_str(), "%dx%dx%d%c", &size[0], &size[1], &size[2], &extra);
+  const int n = std::sscanf(text.c_str(), "%dx%dx%dx%d%c", &size[0], &size[1], &size[2], &size[3], &extra);
   if (n == 1) size[1] = size[2] = size[0];
-  if ((n != 1 && n != 3) || size[0] < 1 || size[1] < 1 || size[2] < 1 || size[0] > 65536 || size[1] > 65536 ||
-      size[2] > 65536)
-    throw ddt::Error("--size wants N or XxYxZ between 1 and 65536, got '" + text + "'");
+  bool good = n == 1 || n == 3 || n == 4;
+  for (int a = 0; a < (n == 4 ? 4 : 3); ++a) good = good && size[a] >= 1 && size[a] <= 65536;
+  if (!good) throw ddt::Error("--size wants N, XxYxZ or XxYxZxT between 1 and 65536, got '" + text + "'");
+  return size;
 }
 
 // out.nrrd + "trilinear" -> out.trilinear.nrrd (same directory and extension).
@@ -58,9 +63,11 @@ std::string sibling_path(const std::string& output, const std::string& tag) {
   return (p.parent_path() / (p.stem().string() + "." + tag + p.extension().string())).string();
 }
 
-std::string size_text(const ddt::Volume& v) {
-  return std::to_string(v.nx) + "x" + std::to_string(v.ny) + "x" + std::to_string(v.nz);
+std::string size_text(const std::array<int, 4>& n) {
+  return std::to_string(n[0]) + "x" + std::to_string(n[1]) + "x" + std::to_string(n[2]) +
+         (n[3] > 1 ? "x" + std::to_string(n[3]) : std::string());
 }
+std::string size_text(const ddt::Volume& v) { return size_text(v.size()); }
 
 int fail(const char* who, const std::exception& e) {
   std::cerr << who << e.what() << "\n";
@@ -70,19 +77,21 @@ int fail(const char* who, const std::exception& e) {
 // The memory the job holds at least, per channel: the input and the output
 // as floats (8 bytes an output voxel with the stored copy and the ownership
 // count), one more output per --compare method, and for the mesh methods the
-// tetrahedralization (about 0.5 KB an input voxel, docs/volumes.md) and the
-// cubic render's gradients (3 floats an input voxel).
+// triangulation (about 0.5 KB an input voxel in 3D, 6 tetrahedra; in 4D
+// 24 simplices a sample, about 1.7 KB measured at 32^3 x 16, docs/volumes.md) and the cubic
+// render's gradients (D floats an input voxel).
 double volume_job_bytes(const std::string& method, std::size_t compares, double in_voxels, double out_voxels,
-                        int channels) {
+                        int channels, bool series) {
   const bool mesh = method == "ddt" || method == "delaunay";
-  return channels * ((mesh ? 16.0 : 4.0) * in_voxels + 8.0 * out_voxels * double(1 + compares)) +
-         (mesh ? 512.0 * in_voxels : 0.0);
+  const double mesh_bytes = series ? 1800.0 : 512.0;
+  return channels * ((mesh ? 20.0 : 4.0) * in_voxels + 8.0 * out_voxels * double(1 + compares)) +
+         (mesh ? mesh_bytes * in_voxels : 0.0);
 }
 
 int run_volume_upscale(int argc, char** argv) {
   std::string input, output, size_spec, method = "ddt", cost = "variance", picture, type = "same",
                                         encoding = "same", render = "cubic", slopes = "mc4";
-  double scale = 0, tolerance = 1e-9, iso = NAN;
+  double scale = 0, time_scale = 0, tolerance = 1e-9, iso = NAN;
   std::vector<std::string> compare;
   long long max_voxels = ddt::default_max_voxels;
   int threads = 0;
@@ -92,17 +101,28 @@ int run_volume_upscale(int argc, char** argv) {
                "The voxels become a 3D scalar field, tetrahedrized (Delaunay, then bistellar 2-3, 3-2, 4-4 and\n"
                "hull 2-2 flips that lower the weighted content of the paper's cost) so that long thin\n"
                "tetrahedra follow surfaces; the field on them (cubic, or the paper's linear) is scan-converted at the\n"
-               "new size.",
+               "new size. A volume series (4 axes: x, y, z, t) is done the same way in 4D: the Delaunay mesh of\n"
+               "the 4D grid, the generic flips, the cubic or linear field on its 4-simplices.",
                "ddtscale"};
   app.add_option("input", input, "input volume (.nrrd or .nhdr; raw, gzip, ...; 8/16/32-bit integer or float; "
-                 "channels on a leading non-spatial axis: kind vector, RGB-color, 3-vector, ...)")
+                 "3 axes, or 4 for a series x, y, z, t; channels on a leading non-spatial axis: kind vector, "
+                 "RGB-color, 3-vector, ...)")
       ->required();
   app.add_option("output", output, "output volume (.nrrd or .nhdr); keeps the input's sample type and encoding")
       ->required();
-  app.add_option("-s,--scale", scale, "magnification, any real > 0 (e.g. 4 or 2.5), the same on every axis");
-  app.add_option("--size", size_spec, "output size instead of --scale: N (a cube) or XxYxZ voxels");
-  app.add_option("--method", method, "ddt (default), delaunay (no flips), trilinear or tricubic")
-      ->check(CLI::IsMember(ddt::volume_upscale_methods()))
+  app.add_option("-s,--scale", scale,
+                 "magnification, any real > 0 (e.g. 4 or 2.5), the same on every axis (a series' time too, "
+                 "unless --time-scale)");
+  app.add_option("--time-scale", time_scale,
+                 "series: magnification of the time axis, any real > 0: n steps become (n - 1) * T + 1 (the steps "
+                 "are instants, every input step kept); alone, space keeps its size");
+  app.add_option("--size", size_spec,
+                 "output size instead of --scale: N (a cube), XxYxZ voxels, or XxYxZxT for a series (with XxYxZ "
+                 "a series keeps its steps unless --time-scale)");
+  app.add_option("--method", method,
+                 "ddt (default), delaunay (no flips), trilinear or tricubic; series: ddt, delaunay, quadrilinear "
+                 "(linear in space and time) or tricubic-linear (Catmull-Rom in space, linear in time)")
+      ->check(CLI::IsMember(ddt::volume_series_upscale_methods()))
       ->capture_default_str();
   app.add_option("--cost", cost, "flip cost: " + ddt::cost_names_joined())->capture_default_str();
   app.add_option("--render", render,
@@ -115,13 +135,14 @@ int run_volume_upscale(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--compare", compare,
                  "also write the volume enlarged by this method beside the output (out.METHOD.nrrd): "
-                 "trilinear, tricubic (comma-separated for both)")
+                 "trilinear, tricubic, delaunay; series: quadrilinear, tricubic-linear, delaunay (comma-separated "
+                 "for several)")
       ->delimiter(',')
-      ->check(CLI::IsMember({"trilinear", "tricubic", "delaunay"}));
+      ->check(CLI::IsMember({"trilinear", "tricubic", "delaunay", "quadrilinear", "tricubic-linear"}));
   app.add_option("--picture", picture,
                  "write a PNG of the middle slices and a maximum-intensity projection: one column per "
-                 "--compare method, then DDT")
-      ;
+                 "--compare method, then DDT; series: the middle x-y and x-z slices of the middle output step "
+                 "and the x-t plane at the middle y and z");
   app.add_option("--iso", iso, "with --picture: add a row of shaded isosurfaces at this value");
   app.add_option("--type", type, "output sample type: same, uint8, int8, uint16, int16, uint32, int32, float32, float64")
       ->capture_default_str();
@@ -156,8 +177,14 @@ int run_volume_upscale(int argc, char** argv) {
       "Output voxel (X, Y, Z) samples the input at ((X + 0.5) / sx, ...); outside the voxel centres'\n"
       "box it takes the value of the nearest point of the box. Spacing, space directions and origin\n"
       "are scaled so every output sample keeps its world position.\n"
+      "Series (4 axes x, y, z, t): time steps are instants (node-centred) unless the header's time axis\n"
+      "says \"centers: cell\": n steps enlarged by T become (n - 1) * T + 1, output step T * k is input\n"
+      "step k, and the output's time axis is written node-centred with spacing / T, same min and max.\n"
+      "Memory: about 24 4-simplices per input sample (some 1.7 KB); --max-voxels and the physical memory\n"
+      "bound the job before any work.\n"
       "Other volume commands: ddtscale volume-eval --help, ddtscale volume-field --help.\n"
-      "Example: ddtscale head.nrrd head_x4.nrrd --scale 4 --compare trilinear --picture head.png -v");
+      "Example: ddtscale head.nrrd head_x4.nrrd --scale 4 --compare trilinear --picture head.png -v\n"
+      "Series: ddtscale beat.nrrd beat_x2.nrrd --scale 2 --time-scale 4 --compare quadrilinear --picture beat.png");
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp&) {
@@ -181,9 +208,15 @@ int run_volume_upscale(int argc, char** argv) {
     ddt::check_volume_output_path(output, input, read_options);
     for (const auto& m : compare) ddt::check_volume_output_path(sibling_path(output, m), input, read_options);
     if (!picture.empty()) ddt::check_output_path(picture, input);
+    const bool time_given = app.count("--time-scale") > 0;
     if (scale != 0 && !size_spec.empty()) throw ddt::Error("give either --scale or --size, not both");
-    if (scale == 0 && size_spec.empty()) throw ddt::Error("give the magnification: --scale S, or --size N or XxYxZ");
+    if (scale == 0 && size_spec.empty() && !time_given)
+      throw ddt::Error("give the magnification: --scale S (and --time-scale T), or --size N, XxYxZ or XxYxZxT");
     if (scale != 0 && (!(scale > 0) || !std::isfinite(scale))) throw ddt::Error("--scale must be a positive number");
+    if (time_given && (!(time_scale > 0) || !std::isfinite(time_scale)))
+      throw ddt::Error("--time-scale must be a positive number");
+    const std::array<int, 4> size_given = size_spec.empty() ? std::array<int, 4>{} : parse_size(size_spec);
+    if (size_given[3] != 0 && time_given) throw ddt::Error("give the steps either in --size or by --time-scale");
 
     auto log = [&](const std::string& line) {
       if (verbose) std::cerr << line << "\n";
@@ -191,23 +224,28 @@ int run_volume_upscale(int argc, char** argv) {
     const auto thread_limit = ddt::limit_threads(threads);
     // The whole job is sized from the input's header, before its data is
     // read: output size and memory.
-    int out[3] = {0, 0, 0};
-    read_options.check = [&](int nx, int ny, int nz, int channels) {
-      if (scale != 0) {
-        const int in[3] = {nx, ny, nz};
-        for (int a = 0; a < 3; ++a) {
-          const double n = std::round(in[a] * scale);
-          if (n > 65536) throw ddt::Error("--scale gives an output larger than --max-voxels");
-          out[a] = static_cast<int>(std::max(1.0, n));
-        }
-      } else {
-        parse_size(size_spec, out);
+    std::array<int, 4> out{0, 0, 0, 0};
+    read_options.check = [&](const std::array<int, 4>& in, int channels) {
+      // Is the input a series? Its header says so; time steps are instants
+      // (the header's centring is honoured after the read: the check only sizes the job).
+      const bool series = in[3] > 1;
+      if (!series && (time_given || size_given[3] > 1))
+        throw ddt::Error("--time-scale and a time size apply to volume series (4 axes); '" + input +
+                         "' is a 3D volume");
+      const double space = scale != 0 ? scale : 1.0, time = time_given ? time_scale : space;
+      for (int a = 0; a < 4; ++a) {
+        const double n = a < 3 ? std::round(in[a] * space) : std::round((in[3] - 1) * time) + 1;
+        if (n > 65536) throw ddt::Error("--scale gives an output larger than --max-voxels");
+        out[a] = static_cast<int>(std::max(1.0, n));
       }
-      ddt::check_size_limit("output", std::to_string(out[0]) + "x" + std::to_string(out[1]) + "x" +
-                                          std::to_string(out[2]),
-                            ddt::checked_product({out[0], out[1], out[2]}), max_voxels, "--max-voxels");
-      ddt::check_memory_fits("this job", volume_job_bytes(method, compare.size(), double(nx) * ny * nz,
-                                                          double(out[0]) * out[1] * out[2], channels));
+      if (!size_spec.empty())
+        for (int a = 0; a < 4; ++a)
+          if (a < 3 || size_given[3] != 0) out[a] = size_given[a];
+      ddt::check_size_limit("output", size_text(out), ddt::checked_product({out[0], out[1], out[2], out[3]}),
+                            max_voxels, "--max-voxels");
+      const double in_voxels = double(in[0]) * in[1] * in[2] * in[3];
+      ddt::check_memory_fits("this job", volume_job_bytes(method, compare.size(), in_voxels,
+                                                          double(out[0]) * out[1] * out[2] * out[3], channels, series));
     };
     auto t0 = std::chrono::steady_clock::now();
     const ddt::VolumeFile file = ddt::read_volume(input, read_options);
@@ -217,6 +255,20 @@ int run_volume_upscale(int argc, char** argv) {
         ddt::sample_type_name(file.type) + ", " +
         ddt::encoding_name(file.encoding) + ", " + std::to_string(seconds_since(t0)) + " s");
 
+    const bool series = src.nt > 1;
+    // A time axis whose header says its steps are cells: n steps become n * T.
+    if (series && !file.node_centred[3] && size_given[3] == 0)
+      out[3] = static_cast<int>(std::max(1.0, std::round(src.nt * (time_given ? time_scale
+                                                                                    : scale != 0 ? scale : 1.0))));
+    if (!series && method != "ddt" && method != "delaunay" && method != "trilinear" && method != "tricubic")
+      throw ddt::Error("--method " + method + " is for volume series (4 axes); '" + input + "' is a 3D volume");
+    for (const auto& m : compare) {
+      if (series && (m == "trilinear" || m == "tricubic"))
+        throw ddt::Error("--compare " + m + " is for 3D volumes; a series compares with quadrilinear or "
+                         "tricubic-linear");
+      if (!series && (m == "quadrilinear" || m == "tricubic-linear"))
+        throw ddt::Error("--compare " + m + " is for volume series; a 3D volume compares with trilinear or tricubic");
+    }
     const ddt::VolumeSampleType out_type = same_type ? file.type : forced_type;
     const ddt::VolumeEncoding out_encoding = same_encoding ? file.encoding : forced_encoding;
     ddt::VolumeUpscaleOptions options;
@@ -225,17 +277,19 @@ int run_volume_upscale(int argc, char** argv) {
     options.relative_tolerance = tolerance;
     options.render = ddt::render_by_name(render);
     options.slopes = ddt::slope_limiter_by_name(slopes);
+    options.node_centred = file.node_centred;
     if (verbose) options.log = log;
     ddt::VolumeUpscaleStats stats;
-    const ddt::Volume result = ddt::upscale_volume(src, out[0], out[1], out[2], options, &stats);
-    char comment[200];
+    const ddt::Volume result = ddt::upscale_volume(src, out, options, &stats);
+    char comment[240];
     const bool mesh_method = method == "ddt" || method == "delaunay";
-    std::snprintf(comment, sizeof comment, "ddtscale: %s enlarged to %dx%dx%d by %s%s%s%s%s",
-                  size_text(src).c_str(), out[0], out[1], out[2], method.c_str(), method == "ddt" ? ", cost " : "",
+    std::snprintf(comment, sizeof comment, "ddtscale: %s enlarged to %s by %s%s%s%s%s%s", size_text(src).c_str(),
+                  size_text(out).c_str(), method.c_str(), method == "ddt" ? ", cost " : "",
                   method == "ddt" ? cost.c_str() : "", mesh_method ? ", render " : "",
-                  mesh_method ? render.c_str() : "");
+                  mesh_method ? render.c_str() : "",
+                  series ? (file.node_centred[3] ? ", time node-centred" : ", time cell-centred") : "");
     t0 = std::chrono::steady_clock::now();
-    ddt::write_volume(output, result, out_type, out_encoding, file.header.get(), comment);
+    ddt::write_volume(output, result, out_type, out_encoding, file.header.get(), comment, file.node_centred);
     log("write: " + output + ", " + ddt::sample_type_name(out_type) + ", " + ddt::encoding_name(out_encoding) + ", " +
         std::to_string(seconds_since(t0)) + " s");
 
@@ -243,10 +297,10 @@ int run_volume_upscale(int argc, char** argv) {
     for (const auto& m : compare) {
       ddt::VolumeUpscaleOptions o = options;
       o.method = m;
-      baselines.push_back(ddt::upscale_volume(src, out[0], out[1], out[2], o));
+      baselines.push_back(ddt::upscale_volume(src, out, o));
       const std::string path = sibling_path(output, m);
       ddt::write_volume(path, baselines.back(), out_type, out_encoding, file.header.get(),
-                        "ddtscale: " + size_text(src) + " enlarged by " + m);
+                        "ddtscale: " + size_text(src) + " enlarged by " + m, file.node_centred);
       log("compare: " + path);
     }
     if (!picture.empty()) {
@@ -268,18 +322,26 @@ int run_volume_upscale(int argc, char** argv) {
         rows.push_back(ddt::VolumeView::isosurface);
         iso_view.level = iso;
       }
-      const ddt::Image views = ddt::compare_views(columns, rows, lo, hi, iso_view);
+      if (series) {
+        // The middle output step (between two input steps at even time scales) and the x-t plane.
+        rows = {ddt::VolumeView::slice_xy, ddt::VolumeView::slice_xz};
+        if (std::isfinite(iso)) rows.push_back(ddt::VolumeView::isosurface);
+      }
+      const ddt::Image views = series ? ddt::compare_series_views(columns, out[3] / 2, rows, lo, hi, iso_view)
+                                      : ddt::compare_views(columns, rows, lo, hi, iso_view);
       ddt::write_image(picture, views, ddt::SampleFormat::uint8);
-      log("picture: " + picture + " (columns: " + (compare.empty() ? "" : "compare methods, then ") +
-          method + "; rows: x-y, x-z, y-z middle slices, MIP along z" + (std::isfinite(iso) ? ", isosurface" : "") +
+      log("picture: " + picture + " (columns: " + (compare.empty() ? "" : "compare methods, then ") + method +
+          (series ? "; rows: x-y, x-z middle slices of step " + std::to_string(out[3] / 2) +
+                        (std::isfinite(iso) ? ", isosurface" : "") + ", the x-t plane"
+                  : "; rows: x-y, x-z, y-z middle slices, MIP along z" +
+                        std::string(std::isfinite(iso) ? ", isosurface" : "")) +
           ")");
     }
     char line[120];
     std::snprintf(line, sizeof line, "peak memory: %.0f MB", peak_memory_mb());
     log(line);
     if (!quiet && !verbose)
-      std::cerr << output << ": " << out[0] << "x" << out[1] << "x" << out[2] << " " << ddt::sample_type_name(out_type)
-                << "\n";
+      std::cerr << output << ": " << size_text(out) << " " << ddt::sample_type_name(out_type) << "\n";
     return 0;
   } catch (const std::bad_alloc&) {
     std::cerr << "ddtscale: out of memory (try a smaller output or --max-voxels)\n";
@@ -289,31 +351,68 @@ int run_volume_upscale(int argc, char** argv) {
   }
 }
 
+// volume-eval --series: the volume-series experiment (volume_series_experiments.hpp).
+int run_volume_series_eval(const ddt::VolumeSeriesExperimentOptions& options,
+                           const std::string& table, bool quiet) {
+  ddt::VolumeSeriesExperimentOptions o = options;
+  if (!quiet) o.log = [](const std::string& line) { std::cerr << line << "\n"; };
+  const auto rows = ddt::run_volume_series_experiment(o);
+  const std::string text = ddt::volume_series_experiment_table(rows);
+  std::cout << text;
+  if (!table.empty()) {
+    std::ofstream out(table);
+    out << text;
+    if (!out) throw ddt::Error("cannot write '" + table + "'");
+  }
+  return 0;
+}
+
 int run_volume_eval(int argc, char** argv) {
   ddt::VolumeExperimentOptions options;
+  ddt::VolumeSeriesExperimentOptions series_options;
   std::string pictures, table;
   std::vector<std::string> fields = options.fields, methods = options.methods,
                            picture_methods = options.picture_methods;
-  bool quiet = false;
+  bool quiet = false, series = false;
   CLI::App app{"The paper's 3D experiments: analytic volumes (sphere, hydrogen orbital) sampled at SIZE^3,\n"
                "enlarged by SCALE with each method and scored against the field sampled at the high\n"
-               "resolution (RMSE, PSNR with peak 1). Prints a Markdown table.",
+               "resolution (RMSE, PSNR with peak 1). Prints a Markdown table.\n"
+               "With --series, the volume-series experiment (4D): the moving, growing sphere sampled at\n"
+               "SIZE^3 x STEPS, enlarged by SCALE in space and TIME-SCALE in time (node-centred: (STEPS - 1) *\n"
+               "TIME-SCALE + 1 steps), scored against the field at the output's voxels and instants; methods\n"
+               "quadrilinear, tricubic-linear, delaunay, ddt (the defaults change: --scale 2, --input-ss 4,\n"
+               "--reference-ss 2).",
                "ddtscale volume-eval"};
   app.add_option("--size", options.size, "input size (a cube)")->capture_default_str()->check(whole_number(2, 512));
-  app.add_option("--scale", options.scale, "integer magnification")->capture_default_str()->check(whole_number(1, 16));
-  app.add_option("--fields", fields, "fields (comma-separated): sphere, hydrogen")->delimiter(',');
+  app.add_option("--scale", options.scale, "integer magnification (with --series: in space, default 2)")
+      ->capture_default_str()
+      ->check(whole_number(1, 16));
+  app.add_flag("--series", series, "run the volume-series experiment (4D, moving-sphere) instead");
+  app.add_option("--steps", series_options.steps, "--series: input time steps")
+      ->capture_default_str()
+      ->check(whole_number(2, 512));
+  app.add_option("--time-scale", series_options.time_scale, "--series: integer magnification in time")
+      ->capture_default_str()
+      ->check(whole_number(1, 16));
+  app.add_option("--fields", fields, "fields (comma-separated): sphere, hydrogen (--series: moving-sphere)")
+      ->delimiter(',');
   app.add_option("--methods", methods,
                  "methods (comma-separated): trilinear, tricubic, delaunay, ddt:COST (ddt = ddt:variance); "
-                 "ddt and delaunay with -linear (the paper's render) or -cubic (the default), e.g. ddt-linear:variance")
+                 "ddt and delaunay with -linear (the paper's render) or -cubic (the default), e.g. ddt-linear:variance; "
+                 "--series: quadrilinear, tricubic-linear, delaunay, ddt (default: quadrilinear, tricubic-linear, "
+                 "delaunay, ddt-linear, ddt)")
       ->delimiter(',');
-  app.add_option("--pictures", pictures, "write <field>-x<scale>.png views into this directory");
+  app.add_option("--pictures", pictures,
+                 "write <field>-x<scale>.png views into this directory (--series: "
+                 "<field>-x<scale>-t<time-scale>.png and -iso.png)");
   app.add_option("--picture-methods", picture_methods, "the columns after the reference in the pictures")
       ->delimiter(',');
   app.add_option("--table", table, "also write the Markdown table to this file");
-  app.add_option("--input-ss", options.input_ss, "point samples per axis per input voxel")
+  app.add_option("--input-ss", options.input_ss, "point samples per axis per input voxel (--series: default 4)")
       ->check(whole_number(1, 64))
       ->capture_default_str();
-  app.add_option("--reference-ss", options.reference_ss, "point samples per axis per reference voxel")
+  app.add_option("--reference-ss", options.reference_ss,
+                 "point samples per axis per reference voxel (--series: default 2)")
       ->check(whole_number(1, 64))
       ->capture_default_str();
   app.add_option("--iso", options.iso_level,
@@ -335,6 +434,24 @@ int run_volume_eval(int argc, char** argv) {
     return 2;
   }
   try {
+    if (series) {
+      for (const char* only3d : {"--quantize", "--iso"})
+        if (app.count(only3d)) throw ddt::Error(std::string(only3d) + " is for the 3D experiments, not --series");
+      series_options.size = options.size;
+      if (app.count("--scale")) series_options.scale = options.scale;
+      if (app.count("--input-ss")) series_options.input_ss = options.input_ss;
+      if (app.count("--reference-ss")) series_options.reference_ss = options.reference_ss;
+      if (app.count("--fields")) {
+        if (fields.size() != 1) throw ddt::Error("--series runs one field: --fields moving-sphere");
+        series_options.field = fields[0];
+      }
+      if (app.count("--methods")) series_options.methods = methods;
+      if (app.count("--picture-methods")) series_options.picture_methods = picture_methods;
+      series_options.picture_dir = pictures;
+      return run_volume_series_eval(series_options, table, quiet);
+    }
+    for (const char* only4d : {"--steps", "--time-scale"})
+      if (app.count(only4d)) throw ddt::Error(std::string(only4d) + " is for --series");
     options.fields = fields;
     options.methods = methods;
     options.picture_methods = picture_methods;
@@ -356,14 +473,19 @@ int run_volume_eval(int argc, char** argv) {
 
 int run_volume_field(int argc, char** argv) {
   std::string name, output, size_spec = "32", type = "float32", encoding = "raw";
-  int ss = 8;
+  int ss = 8, steps = 16;
   bool list = false;
   CLI::App app{"Write an analytic test volume (box-filtered over each voxel) as NRRD. Values 0..1;\n"
-               "integer types scale them to the type's maximum (uint8: 0..255).",
+               "integer types scale them to the type's maximum (uint8: 0..255). Series fields (moving-sphere)\n"
+               "are written as 4-axis NRRDs (x, y, z, t; the time axis of kind time, node-centred: step l is\n"
+               "the instant t = l / (steps - 1)).",
                "ddtscale volume-field"};
   app.add_option("name", name, "field name (see --list)");
   app.add_option("output", output, "output volume (.nrrd or .nhdr)");
-  app.add_option("--size", size_spec, "N (a cube) or XxYxZ voxels")->capture_default_str();
+  app.add_option("--size", size_spec, "N (a cube) or XxYxZ voxels, or XxYxZxT for a series")->capture_default_str();
+  app.add_option("--steps", steps, "series fields: time steps (unless --size gives them)")
+      ->capture_default_str()
+      ->check(whole_number(1, 65536));
   app.add_option("--supersample", ss, "point samples per axis per voxel")->capture_default_str()->check(whole_number(1, 64));
   app.add_option("--type", type, "sample type: uint8, uint16, float32, ...")->capture_default_str();
   app.add_option("--encoding", encoding, "raw, gzip, ...")->capture_default_str();
@@ -380,23 +502,33 @@ int run_volume_field(int argc, char** argv) {
   try {
     if (list) {
       for (const auto& f : ddt::volume_fields()) std::cout << f.name << "\t" << f.description << "\n";
+      for (const auto& f : ddt::volume_series_fields())
+        std::cout << f.name << "\t(series) " << f.description << "\n";
       return 0;
     }
     if (name.empty() || output.empty()) throw ddt::Error("give a field name and an output file (see --list)");
-    int size[3];
-    parse_size(size_spec, size);
-    const ddt::VolumeField& field = ddt::find_volume_field(name);
+    std::array<int, 4> size = parse_size(size_spec);
+    bool series = false;
+    for (const auto& f : ddt::volume_series_fields()) series = series || f.name == name;
+    if (!series && size[3] != 0) throw ddt::Error("'" + name + "' is a 3D field: --size N or XxYxZ");
+    if (series && size[3] == 0) size[3] = steps;
     const ddt::VolumeSampleType t = ddt::parse_sample_type(type);
     const ddt::VolumeEncoding e = ddt::parse_encoding(encoding);
+    std::string description;
+    if (!series) description = ddt::find_volume_field(name).description;  // throws for unknown names
+    else description = ddt::find_volume_series_field(name).description;
+    ddt::check_size_limit("output", size_text(size), ddt::checked_product({size[0], size[1], size[2], size[3]}),
+                          ddt::default_max_voxels, "--size");
     ddt::check_volume_output_path(output, "");
-    ddt::Volume v = ddt::sample_field(field, size[0], size[1], size[2], ss);
+    ddt::Volume v = series ? ddt::sample_series_field(ddt::find_volume_series_field(name), size, ss)
+                           : ddt::sample_field(ddt::find_volume_field(name), size[0], size[1], size[2], ss);
     const double peak = t == ddt::VolumeSampleType::uint8    ? 255.0
                         : t == ddt::VolumeSampleType::int8   ? 127.0
                         : t == ddt::VolumeSampleType::uint16 ? 65535.0
                         : t == ddt::VolumeSampleType::int16  ? 32767.0
                                                              : 1.0;
     for (float& x : v.voxels) x = static_cast<float>(x * peak);
-    ddt::write_volume(output, v, t, e, nullptr, "ddtscale volume-field " + name + ": " + field.description);
+    ddt::write_volume(output, v, t, e, nullptr, "ddtscale volume-field " + name + ": " + description);
     return 0;
   } catch (const std::exception& e) {
     return fail("ddtscale volume-field: ", e);

@@ -38,6 +38,7 @@ template <class T>
 py::array volume_as(const ddt::Volume& v) {
   // Several channels: a last axis of them (NRRD's leading axis, interleaved).
   std::vector<py::ssize_t> shape = {v.nz, v.ny, v.nx};
+  if (v.nt > 1) shape.insert(shape.begin(), v.nt);  // a series: T x Z x Y x X
   if (v.channels > 1) shape.push_back(v.channels);
   py::array_t<T> out(shape);
   T* p = out.mutable_data();
@@ -113,13 +114,16 @@ py::array array_from_image(const ddt::Image& image, const py::dtype& dtype, bool
 VolumeArray volume_from_array(const py::array& array) {
   VolumeArray r;
   r.dtype = array.dtype();
-  if (array.ndim() != 3)
-    throw ddt::Error("a volume array is Z x Y x X; this one has " + std::to_string(array.ndim()) + " dimensions");
+  if (array.ndim() != 3 && array.ndim() != 4)
+    throw ddt::Error("a volume array is Z x Y x X, a series T x Z x Y x X; this one has " +
+                     std::to_string(array.ndim()) + " dimensions");
   if (array.size() == 0) throw ddt::Error("the input volume is empty");
-  if (array.shape(0) > 65536 || array.shape(1) > 65536 || array.shape(2) > 65536)
-    throw ddt::Error("the input volume is too large (at most 65536 voxels on an axis)");
-  r.volume = ddt::Volume(static_cast<int>(array.shape(2)), static_cast<int>(array.shape(1)),
-                         static_cast<int>(array.shape(0)));
+  for (py::ssize_t a = 0; a < array.ndim(); ++a)
+    if (array.shape(a) > 65536) throw ddt::Error("the input volume is too large (at most 65536 voxels on an axis)");
+  const py::ssize_t d = array.ndim();
+  r.volume = ddt::Volume({static_cast<int>(array.shape(d - 1)), static_cast<int>(array.shape(d - 2)),
+                          static_cast<int>(array.shape(d - 3)), d == 4 ? static_cast<int>(array.shape(0)) : 1},
+                         1, 0.0f);
   std::vector<float>& v = r.volume.voxels;
   const char kind = r.dtype.kind();
   const auto size = r.dtype.itemsize();

@@ -23,6 +23,7 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
@@ -257,36 +258,53 @@ py::array upscale_volume(const py::array& array, const py::object& scale, const 
   VolumeCall call = volume_call(kwargs);
   VolumeArray in = volume_from_array(array);
   const ddt::Volume& v = in.volume;
-  int out[3] = {0, 0, 0};  // x, y, z
+  const bool series = v.nt > 1;
+  std::array<int, 4> out{0, 0, 0, 1};  // x, y, z, t
   const auto factor = optional_arg<double>(scale, "scale");
   if (factor && !size.is_none()) throw ddt::Error("give either --scale or --size, not both");
-  if (!factor && size.is_none()) throw ddt::Error("give the magnification: --scale S, or --size N or XxYxZ");
-  if (factor) {
-    if (!(*factor > 0) || !std::isfinite(*factor)) throw ddt::Error("--scale must be a positive number");
-    const int in_size[3] = {v.nx, v.ny, v.nz};
-    for (int a = 0; a < 3; ++a) {
-      const double n = std::round(in_size[a] * *factor);
-      if (n > 65536) throw ddt::Error("--scale gives an output larger than --max-voxels");
-      out[a] = static_cast<int>(std::max(1.0, n));
-    }
-  } else {
-    const std::vector<int> zyx = size_values(size, 3, "size is (z, y, x) or one number for all three");
-    out[0] = zyx[2];
-    out[1] = zyx[1];
-    out[2] = zyx[0];
+  if (!factor && size.is_none() && !call.time_scale)
+    throw ddt::Error("give the magnification: --scale S, or --size N or XxYxZ");
+  if (call.time_scale && !series) throw ddt::Error("time_scale applies to series (T x Z x Y x X arrays)");
+  if (factor && (!(*factor > 0) || !std::isfinite(*factor))) throw ddt::Error("--scale must be a positive number");
+  // Space: scale (1 when only time_scale is given) or size; time: time_scale
+  // (default: scale), or the size's T, else kept.
+  const double space = factor ? *factor : 1.0;
+  const double time = call.time_scale ? *call.time_scale : space;
+  const int in_size[4] = {v.nx, v.ny, v.nz, v.nt};
+  for (int a = 0; a < 4; ++a) {
+    const double n = static_cast<double>(ddt::enlarged_size(in_size[a], a < 3 ? space : time,
+                                                            call.options.node_centred[a]));
+    if (n > 65536) throw ddt::Error("--scale gives an output larger than --max-voxels");
+    out[a] = static_cast<int>(n);
   }
-  for (int a = 0; a < 3; ++a)
+  if (!series) out[3] = 1;
+  if (!size.is_none()) {
+    const bool four = py::isinstance<py::sequence>(size) && !py::isinstance<py::str>(size) && py::len(size) == 4;
+    if (four && !series) throw ddt::Error("size is (z, y, x) or one number for all three");
+    if (four && call.time_scale) throw ddt::Error("give the steps either in size or by time_scale");
+    const std::vector<int> sizes =
+        size_values(size, four ? 4 : 3,
+                    series ? "size is (t, z, y, x), (z, y, x) or one number for z, y and x"
+                           : "size is (z, y, x) or one number for all three");
+    const std::size_t k = sizes.size();
+    out[0] = sizes[k - 1];
+    out[1] = sizes[k - 2];
+    out[2] = sizes[k - 3];
+    if (four) out[3] = sizes[0];
+  }
+  for (int a = 0; a < 4; ++a)
     if (out[a] < 1 || out[a] > 65536) throw ddt::Error("--size wants sizes between 1 and 65536");
-  const long long voxels = static_cast<long long>(out[0]) * out[1] * out[2];
+  const long long voxels = static_cast<long long>(out[0]) * out[1] * out[2] * out[3];
   if (voxels > call.max_voxels)
     throw ddt::Error("output " + std::to_string(out[0]) + "x" + std::to_string(out[1]) + "x" +
-                     std::to_string(out[2]) + " exceeds --max-voxels " + std::to_string(call.max_voxels));
+                     std::to_string(out[2]) + (series ? "x" + std::to_string(out[3]) : std::string()) +
+                     " exceeds --max-voxels " + std::to_string(call.max_voxels));
   call.options.log = stderr_log(call.verbose);
   ddt::Volume result;
   {
     py::gil_scoped_release release;
     const auto limit = ddt::limit_threads(call.threads);
-    result = ddt::upscale_volume(v, out[0], out[1], out[2], call.options);
+    result = ddt::upscale_volume(v, out, call.options);
   }
   return array_from_volume(result, in.dtype);
 }

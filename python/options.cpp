@@ -162,6 +162,8 @@ py::dict volume_defaults() {
   d["render"] = ddt::to_string(c.options.render);
   d["slopes"] = ddt::to_string(c.options.slopes);
   d["tolerance"] = c.options.relative_tolerance;
+  d["time_scale"] = py::none();
+  d["node_centred_time"] = true;
   d["max_voxels"] = c.max_voxels;
   d["verbose"] = c.verbose;
   d["threads"] = c.threads;
@@ -172,9 +174,19 @@ VolumeCall volume_call(const py::dict& kwargs) {
   const Keywords k(kwargs, volume_defaults());
   VolumeCall c;
   k.get("method", c.options.method);
-  const auto& methods = ddt::volume_upscale_methods();
+  const auto& methods = ddt::volume_series_upscale_methods();  // the 3D ones and the series' (checked on the array)
   if (std::find(methods.begin(), methods.end(), c.options.method) == methods.end())
-    throw ddt::Error("--method must be one of ddt, delaunay, trilinear, tricubic, not '" + c.options.method + "'");
+    throw ddt::Error("--method must be one of ddt, delaunay, trilinear, tricubic (series: quadrilinear, "
+                     "tricubic-linear), not '" + c.options.method + "'");
+  c.options.node_centred = {false, false, false, true};
+  bool node_time = true;
+  k.get("node_centred_time", node_time);
+  c.options.node_centred[3] = node_time;
+  double time_scale = 0;
+  if (k.get("time_scale", time_scale)) {
+    if (!(time_scale > 0) || !std::isfinite(time_scale)) throw ddt::Error("--time-scale must be a positive number");
+    c.time_scale = time_scale;
+  }
   k.get("cost", c.options.cost);
   ddt::find_cost(c.options.cost);
   std::string name;

@@ -35,7 +35,8 @@ struct ImageCall {
 };
 
 struct VolumeCall {
-  ddt::VolumeUpscaleOptions options;
+  ddt::VolumeUpscaleOptions options;  // node_centred: time (axis t) by default
+  std::optional<double> time_scale;   // series: the time axis' magnification (default: scale)
   long long max_voxels = ddt::default_max_voxels;
   int threads = 0;
   bool verbose = false;

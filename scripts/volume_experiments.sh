@@ -5,9 +5,12 @@
 #   1b. the hydrogen orbital as an 8-bit data set (quantized input, as the
 #      paper's hydrogen volume): docs/volumes/hydrogen-8bit.md and
 #      docs/volumes/hydrogen-x4-q8*.png;
+#   1c. the volume-series experiment (4D: the moving sphere, 32^3 x 16 steps,
+#      x2 in space, x4 in time): docs/volumes/series-experiments.md and
+#      docs/volumes/moving-sphere-x2-t4*.png;
 #   2. the benchmark (hydrogen orbital at 32^3, 64^3, 128^3, x2 and x4; time
 #      of each stage and peak memory): docs/volumes/benchmark.md.
-# Usage: scripts/volume_experiments.sh [BUILD_DIR] [experiments|benchmark|all]
+# Usage: scripts/volume_experiments.sh [BUILD_DIR] [experiments|series|benchmark|all]
 # BUILD_DIR defaults to build (configured and built here when missing).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -26,6 +29,11 @@ if [ "$what" = all ] || [ "$what" = experiments ]; then
     --methods trilinear,tricubic,delaunay,ddt-linear:variance,ddt:variance,ddt:sederberg \
     --picture-methods trilinear,tricubic,ddt-linear:variance,ddt:variance \
     --iso 0.02 --pictures docs/volumes --table docs/volumes/hydrogen-8bit.md
+fi
+
+if [ "$what" = all ] || [ "$what" = series ]; then
+  "$bin" volume-eval --series --size 32 --steps 16 --scale 2 --time-scale 4 \
+    --pictures docs/volumes --table docs/volumes/series-experiments.md
 fi
 
 if [ "$what" = all ] || [ "$what" = benchmark ]; then

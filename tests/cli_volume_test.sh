@@ -89,10 +89,11 @@ done
 
 # Bad input.
 printf 'not a volume' >"$work/corrupt.nrrd"
-printf 'NRRD0004\ntype: uchar\ndimension: 4\nsizes: 3 2 2 2\nencoding: ascii\n\n%s\n' "$(seq -s ' ' 1 24)" >"$work/rgb.nrrd"
+# 4 axes of unknown kind are a series now; 6 axes are nothing a volume has.
+printf 'NRRD0004\ntype: uchar\ndimension: 6\nsizes: 3 2 2 2 2 2\nencoding: ascii\n\n%s\n' "$(seq -s ' ' 1 96)" >"$work/rgb.nrrd"
 run_fail "missing input" "$work/nope.nrrd" "$work/o.nrrd" --scale 2
 run_fail "corrupt input" "$work/corrupt.nrrd" "$work/o.nrrd" --scale 2
-run_fail "multi-component input" "$work/rgb.nrrd" "$work/o.nrrd" --scale 2
+run_fail "six axes" "$work/rgb.nrrd" "$work/o.nrrd" --scale 2
 run_fail "scale zero" "$work/s.nrrd" "$work/o.nrrd" --scale 0
 run_fail "scale negative" "$work/s.nrrd" "$work/o.nrrd" --scale -3
 run_fail "scale not a number" "$work/s.nrrd" "$work/o.nrrd" --scale abc
@@ -119,6 +120,39 @@ run_fail "unknown type" "$work/s.nrrd" "$work/o.nrrd" --scale 2 --type rgb
 run_fail "unknown compare" "$work/s.nrrd" "$work/o.nrrd" --scale 2 --compare lanczos
 run_fail "image output" "$work/s.nrrd" "$work/o.png" --scale 2
 run_fail "unknown field" volume-field torus "$work/t.nrrd"
+
+# Volume series (4 axes x, y, z, t): end to end, time node-centred.
+run_ok "series field" volume-field moving-sphere "$work/ms.nrrd" --size 6 --steps 4 --supersample 2
+[ "$(header sizes "$work/ms.nrrd")" = "6 6 6 4" ] && [ "$(header kinds "$work/ms.nrrd")" = "domain domain domain time" ] &&
+  ok || bad "series field: sizes $(header sizes "$work/ms.nrrd"), kinds $(header kinds "$work/ms.nrrd")"
+run_ok "series x2, time x4" "$work/ms.nrrd" "$work/ms2.nrrd" --scale 2 --time-scale 4 --compare quadrilinear,tricubic-linear \
+  --picture "$work/ms.png" --iso 0.5 --verbose
+[ "$(header sizes "$work/ms2.nrrd")" = "12 12 12 13" ] && ok || bad "series: sizes $(header sizes "$work/ms2.nrrd")"
+[ "$(header centerings "$work/ms2.nrrd")" = "cell cell cell node" ] && ok ||
+  bad "series: centerings $(header centerings "$work/ms2.nrrd")"
+grep -q "triangulate: 864 points, 9000 simplices" "$work/err.txt" && grep -q "optimize: cost variance" "$work/err.txt" &&
+  ok || bad "series --verbose: no 4D triangulation and optimization reported"
+[ -f "$work/ms2.quadrilinear.nrrd" ] && [ -f "$work/ms2.tricubic-linear.nrrd" ] && ok || bad "series --compare missing"
+oiiotool --info "$work/ms.png" >/dev/null 2>&1 && ok || bad "series --picture is not a readable image"
+run_ok "series, --scale on every axis" "$work/ms.nrrd" "$work/ms3.nrrd" --scale 2 --method delaunay --render linear
+[ "$(header sizes "$work/ms3.nrrd")" = "12 12 12 7" ] && ok || bad "series --scale 2: $(header sizes "$work/ms3.nrrd")"
+run_ok "series --time-scale alone" "$work/ms.nrrd" "$work/ms4.nrrd" --time-scale 3 --method quadrilinear
+[ "$(header sizes "$work/ms4.nrrd")" = "6 6 6 10" ] && ok || bad "series --time-scale 3: $(header sizes "$work/ms4.nrrd")"
+run_ok "series --size XxYxZxT" "$work/ms.nrrd" "$work/ms5.nrrd" --size 8x9x10x5 --method tricubic-linear
+[ "$(header sizes "$work/ms5.nrrd")" = "8 9 10 5" ] && ok || bad "series --size: $(header sizes "$work/ms5.nrrd")"
+run_ok "series eval" volume-eval --series --size 6 --steps 3 --methods quadrilinear,ddt --quiet
+grep -q "| moving-sphere | ddt |" "$work/out.txt" && ok || bad "volume-eval --series printed no ddt row"
+run_fail "bad --time-scale" "$work/ms.nrrd" "$work/o.nrrd" --scale 2 --time-scale -1
+run_fail "zero --time-scale" "$work/ms.nrrd" "$work/o.nrrd" --time-scale 0 --scale 2
+run_fail "--time-scale not a number" "$work/ms.nrrd" "$work/o.nrrd" --time-scale fast
+run_fail "--time-scale on a 3D volume" "$work/s.nrrd" "$work/o.nrrd" --scale 2 --time-scale 2
+run_fail "series method on a 3D volume" "$work/s.nrrd" "$work/o.nrrd" --scale 2 --method quadrilinear
+run_fail "3D compare on a series" "$work/ms.nrrd" "$work/o.nrrd" --scale 2 --compare trilinear
+run_fail "series too large" "$work/ms.nrrd" "$work/o.nrrd" --scale 4 --time-scale 100 --max-voxels 100000
+run_fail "steps twice" "$work/ms.nrrd" "$work/o.nrrd" --size 8x8x8x8 --time-scale 2
+"$bin" "$work/ms.nrrd" --help | grep -q -- "--time-scale" && ok || bad "--help does not document --time-scale"
+"$bin" volume-eval --help | grep -q -- "--series" && ok || bad "volume-eval --help does not document --series"
+[ -f "$work/o.nrrd" ] && bad "a refused series run wrote its output" || ok
 
 # A failing run never destroys an existing output.
 printf 'precious' >"$work/keep.nrrd"

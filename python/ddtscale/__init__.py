@@ -50,7 +50,8 @@ def upscale(array: np.ndarray, scale: Optional[float] = None,
 
 
 def upscale_volume(array: np.ndarray, scale: Optional[float] = None,
-                   size: Union[int, Tuple[int, int, int], None] = None, **options: Any) -> np.ndarray:
+                   size: Union[int, Tuple[int, int, int], Tuple[int, int, int, int], None] = None,
+                   **options: Any) -> np.ndarray:
     return _ddtscale.upscale_volume(array, scale, size, options)
 
 
@@ -91,15 +92,27 @@ upscale.__doc__ = f"""Enlarge an image by data-dependent triangulation.
     applied (quiet=True silences it).
     """
 
-upscale_volume.__doc__ = f"""Enlarge a scalar volume by data-dependent tetrahedrization.
+upscale_volume.__doc__ = f"""Enlarge a scalar volume, or a volume series, by data-dependent tetrahedrization.
 
-    array   Z x Y x X array (x fastest, as NRRD): an integer type of up to 32
-            bits, float32 or float64; values are kept as stored (no rescaling).
-    scale   magnification on every axis; or
-    size    (z, y, x) of the output, or one number for all three.
+    array   Z x Y x X array (x fastest, as NRRD), or T x Z x Y x X for a
+            series of T time steps (4D: enlarged in 4D, 4-simplices); an
+            integer type of up to 32 bits, float32 or float64; values are
+            kept as stored (no rescaling).
+    scale   magnification on every axis (a series' time too, unless
+            time_scale); or
+    size    (z, y, x) of the output, or one number for all three; for a
+            series also (t, z, y, x) (with (z, y, x) the steps follow
+            time_scale, else stay).
 
-    Returns an array of the input's dtype (integers rounded and clamped to
-    the type's range).
+    Series: time_scale=T enlarges the time axis alone (alone, space keeps its
+    size). The steps are instants (node_centred_time=True, the default): T
+    steps enlarged by s become (T - 1) * s + 1 and output step s * k is input
+    step k; node_centred_time=False treats them as cells (T * s steps).
+    Methods of series: ddt, delaunay, quadrilinear (linear in space and
+    time), tricubic-linear (Catmull-Rom in space, linear in time).
+
+    Returns an array of the input's dtype and number of dimensions (integers
+    rounded and clamped to the type's range).
 
     Options (`ddtscale in.nrrd out.nrrd --help`), with their defaults:
 {_options_doc(VOLUME_OPTIONS)}

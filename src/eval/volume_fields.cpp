@@ -27,7 +27,51 @@ double hydrogen(double x, double y, double z) {
   return angular * angular * std::exp(-2.0 * r / 3.0) / peak;
 }
 
+double moving_sphere(double x, double y, double z, double t) {
+  const double dx = x - (0.3 + 0.4 * t), dy = y - (0.45 + 0.1 * t), dz = z - 0.5;
+  const double r = 0.15 + 0.1 * t;
+  return dx * dx + dy * dy + dz * dz < r * r ? 1.0 : 0.0;
+}
+
 }  // namespace
+
+const std::vector<VolumeSeriesField>& volume_series_fields() {
+  static const std::vector<VolumeSeriesField> fields = {
+      {"moving-sphere",
+       "solid ball, centre (0.3, 0.45, 0.5) -> (0.7, 0.55, 0.5), radius 0.15 -> 0.25 as t goes 0 -> 1; 1 inside",
+       &moving_sphere, 0.5},
+  };
+  return fields;
+}
+
+const VolumeSeriesField& find_volume_series_field(const std::string& name) {
+  for (const auto& f : volume_series_fields())
+    if (f.name == name) return f;
+  throw Error("unknown series field '" + name + "' (valid: moving-sphere)");
+}
+
+Volume sample_series_field(const VolumeSeriesField& field, const std::array<int, 4>& size, int ss) {
+  for (int n : size)
+    if (n < 1) throw Error("sample_series_field: sizes must be >= 1");
+  if (ss < 1) throw Error("sample_series_field: supersampling must be >= 1");
+  const auto [nx, ny, nz, nt] = size;
+  Volume v(size, 1, 0.0f);
+  const double inv = 1.0 / (double(ss) * ss * ss);
+  tbb::parallel_for(0, nz * nt, [&](int kl) {
+    const int k = kl % nz, l = kl / nz;
+    const double t = nt > 1 ? double(l) / (nt - 1) : 0.0;
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        double sum = 0;
+        for (int c = 0; c < ss; ++c)
+          for (int b = 0; b < ss; ++b)
+            for (int a = 0; a < ss; ++a)
+              sum += field.value((i + (a + 0.5) / ss) / nx, (j + (b + 0.5) / ss) / ny, (k + (c + 0.5) / ss) / nz, t);
+        v.at4(i, j, k, l) = static_cast<float>(sum * inv);
+      }
+  });
+  return v;
+}
 
 const std::vector<VolumeField>& volume_fields() {
   static const std::vector<VolumeField> fields = {
@@ -41,7 +85,7 @@ const std::vector<VolumeField>& volume_fields() {
 const VolumeField& find_volume_field(const std::string& name) {
   for (const auto& f : volume_fields())
     if (f.name == name) return f;
-  throw Error("unknown field '" + name + "' (valid: sphere, hydrogen)");
+  throw Error("unknown field '" + name + "' (valid: sphere, hydrogen; series: moving-sphere)");
 }
 
 Volume sample_field(const VolumeField& field, int nx, int ny, int nz, int ss) {
@@ -63,7 +107,7 @@ Volume sample_field(const VolumeField& field, int nx, int ny, int nz, int ss) {
 }
 
 double volume_rmse(const Volume& a, const Volume& b) {
-  if (a.nx != b.nx || a.ny != b.ny || a.nz != b.nz) throw Error("volume_rmse: the volumes differ in size");
+  if (a.size() != b.size() || a.channels != b.channels) throw Error("volume_rmse: the volumes differ in size");
   if (a.empty()) throw Error("volume_rmse: the volumes are empty");
   double sum = 0;
   for (std::size_t i = 0; i < a.voxels.size(); ++i) {

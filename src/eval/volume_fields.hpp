@@ -26,6 +26,7 @@
 
 #include "volume/volume.hpp"
 
+#include <array>
 #include <functional>
 #include <string>
 #include <vector>
@@ -46,8 +47,33 @@ const VolumeField& find_volume_field(const std::string& name);
 // (ss = 1: point samples at the voxel centres). Parallel over slices.
 Volume sample_field(const VolumeField& field, int nx, int ny, int nz, int ss);
 
-// Root-mean-square difference over all voxels; PSNR = 20 log10(peak / RMSE)
-// in dB (+infinity when equal). Volumes must have the same size.
+// Volume series (4D) with known truth: a field on [0,1]^3 x [0,1] (x, y, z,
+// t), values in 0..1. Sampling at nx x ny x nz x nt box-filters space as
+// above and samples time at instants, step l at t = l / (nt - 1) (the time
+// axis is node-centred: the first and last steps are t = 0 and t = 1; one
+// step is t = 0), the convention of volume_upscale.hpp, so a series
+// enlarged from n to (n - 1) s + 1 steps is compared with the field at the
+// same instants.
+//
+//   moving-sphere   a solid ball, 1 inside and 0 outside, whose centre
+//                   moves from (0.3, 0.45, 0.5) to (0.7, 0.55, 0.5) and
+//                   whose radius grows from 0.15 to 0.25 as t goes from 0
+//                   to 1 (at 32^3 x 16 steps: 0.85 voxel along x and 0.21
+//                   voxel of radius per step)
+struct VolumeSeriesField {
+  std::string name;
+  std::string description;
+  std::function<double(double x, double y, double z, double t)> value;
+  double iso_level = 0.5;
+};
+
+const std::vector<VolumeSeriesField>& volume_series_fields();  // moving-sphere
+const VolumeSeriesField& find_volume_series_field(const std::string& name);
+Volume sample_series_field(const VolumeSeriesField& field, const std::array<int, 4>& size, int ss);
+
+// Root-mean-square difference over all voxels (of every time step);
+// PSNR = 20 log10(peak / RMSE) in dB (+infinity when equal). Volumes must
+// have the same size.
 double volume_rmse(const Volume& a, const Volume& b);
 double volume_psnr(const Volume& a, const Volume& b, double peak = 1.0);
 

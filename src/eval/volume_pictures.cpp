@@ -189,4 +189,39 @@ Image compare_views(const std::vector<const Volume*>& volumes, const std::vector
   return out;
 }
 
+Image series_xt_view(const Volume& v) {
+  if (v.empty()) throw Error("series_xt_view: the volume is empty");
+  Image img(v.nx, v.nt, 1);
+  for (int t = 0; t < v.nt; ++t)
+    for (int x = 0; x < v.nx; ++x) img.at(x, t) = v.at4(x, v.ny / 2, v.nz / 2, t, 0);
+  return img;
+}
+
+Image compare_series_views(const std::vector<const Volume*>& series, int step, const std::vector<VolumeView>& views,
+                           double lo, double hi, const IsoView& iso) {
+  if (series.empty()) throw Error("compare_series_views: nothing to show");
+  std::vector<Volume> steps, planes;
+  for (const Volume* v : series) {
+    if (v->size() != series[0]->size()) throw Error("compare_series_views: the series differ in size");
+    if (step < 0 || step >= v->nt) throw Error("compare_series_views: no time step " + std::to_string(step));
+    steps.push_back(time_step(*v, step));
+    const Image xt = series_xt_view(*v);
+    Volume plane(xt.width, xt.height, 1);  // the x-t plane as a one-slice volume: its x-y slice
+    std::copy(xt.pixels.begin(), xt.pixels.end(), plane.voxels.begin());
+    planes.push_back(std::move(plane));
+  }
+  std::vector<const Volume*> step_columns, plane_columns;
+  for (std::size_t i = 0; i < series.size(); ++i) step_columns.push_back(&steps[i]), plane_columns.push_back(&planes[i]);
+  const Image top = compare_views(step_columns, views, lo, hi, iso);
+  const Image bottom = compare_views(plane_columns, {VolumeView::slice_xy}, lo, hi);
+  // Stacked; the second picture's top gap is the first's bottom one.
+  constexpr int gap = 4;
+  Image out(std::max(top.width, bottom.width), top.height + bottom.height - gap, 1, 0.1f);
+  for (int y = 0; y < top.height; ++y)
+    for (int x = 0; x < top.width; ++x) out.at(x, y) = top.at(x, y);
+  for (int y = gap; y < bottom.height; ++y)
+    for (int x = 0; x < bottom.width; ++x) out.at(x, top.height - gap + y) = bottom.at(x, y);
+  return out;
+}
+
 }  // namespace ddt

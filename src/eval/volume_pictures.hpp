@@ -52,6 +52,15 @@ Image volume_view(const Volume& v, VolumeView view, const IsoView& iso = {});
 Image compare_views(const std::vector<const Volume*>& volumes, const std::vector<VolumeView>& views, double lo,
                     double hi, const IsoView& iso = {});
 
+// Volume series (4D): the x-t plane at the middle y and z (x right, t
+// down), one channel, values as stored.
+Image series_xt_view(const Volume& v);
+
+// compare_views of time step `step` of each series (rows `views`), then a
+// row of their x-t planes (series_xt_view), same columns and grey mapping.
+Image compare_series_views(const std::vector<const Volume*>& series, int step, const std::vector<VolumeView>& views,
+                           double lo, double hi, const IsoView& iso = {});
+
 // The minimum and maximum sample (for the grey mapping).
 void value_range(const Volume& v, double& lo, double& hi);
 

@@ -69,15 +69,21 @@ const std::vector<std::string>& volume_methods() {
   return names;
 }
 
-Volume teem_resample(const Volume& src, int nx, int ny, int nz, const std::string& kernel) {
-  if (src.empty()) throw Error("resample: the volume is empty");
-  if (nx < 1 || ny < 1 || nz < 1) throw Error("resample: the output size must be at least 1x1x1");
-  const NrrdKernel* k = nullptr;
-  double parm[NRRD_KERNEL_PARMS_NUM] = {1.0, 0.0, 0.5};  // scale 1 (input samples); B, C unused
-  if (kernel == "tent") k = nrrdKernelTent;
-  else if (kernel == "catmull-rom") k = nrrdKernelCatmullRom;
-  else throw Error("resample: unknown Teem kernel '" + kernel + "' (valid: tent, catmull-rom)");
+namespace {
 
+const NrrdKernel* teem_kernel(const std::string& name) {
+  if (name == "tent") return nrrdKernelTent;
+  if (name == "catmull-rom") return nrrdKernelCatmullRom;
+  throw Error("resample: unknown Teem kernel '" + name + "' (valid: tent, catmull-rom)");
+}
+
+// One channel, up to four axes, a kernel and a centring per axis.
+Volume teem_resample_axes(const Volume& src, const std::array<int, 4>& size,
+                          const std::array<const NrrdKernel*, 4>& kernels, const std::array<bool, 4>& node_centred) {
+  if (src.empty() || src.channels != 1) throw Error("resample: the volume is empty or has several channels");
+  for (int n : size)
+    if (n < 1) throw Error("resample: the output size must be at least 1 on every axis");
+  double parm[NRRD_KERNEL_PARMS_NUM] = {1.0, 0.0, 0.5};  // scale 1 (input samples); B, C unused
   Nrrd* nin = nrrdNew();
   Nrrd* nout = nrrdNew();
   NrrdResampleContext* rsmc = nrrdResampleContextNew();
@@ -86,26 +92,57 @@ Volume teem_resample(const Volume& src, int nx, int ny, int nz, const std::strin
     nrrdNix(nin);  // wraps src's memory: do not free it
     nrrdNuke(nout);
   };
-  const std::size_t n_out[3] = {std::size_t(nx), std::size_t(ny), std::size_t(nz)};
-  int failed = nrrdWrap_va(nin, const_cast<float*>(src.voxels.data()), nrrdTypeFloat, 3, std::size_t(src.nx),
-                           std::size_t(src.ny), std::size_t(src.nz));
-  failed = failed || nrrdResampleDefaultCenterSet(rsmc, nrrdCenterCell) || nrrdResampleNrrdSet(rsmc, nin) ||
-           nrrdResampleBoundarySet(rsmc, nrrdBoundaryBleed) || nrrdResampleTypeOutSet(rsmc, nrrdTypeFloat) ||
-           nrrdResampleRenormalizeSet(rsmc, AIR_TRUE);
-  for (unsigned a = 0; a < 3 && !failed; ++a)
-    failed = nrrdResampleKernelSet(rsmc, a, k, parm) || nrrdResampleSamplesSet(rsmc, a, n_out[a]) ||
-             nrrdResampleRangeFullSet(rsmc, a);
+  const std::array<int, 4> in = src.size();
+  const unsigned axes = in[3] > 1 || size[3] > 1 ? 4 : 3;
+  std::size_t n_in[4];
+  for (unsigned a = 0; a < 4; ++a) n_in[a] = std::size_t(in[a]);
+  int failed = nrrdWrap_nva(nin, const_cast<float*>(src.voxels.data()), nrrdTypeFloat, axes, n_in);
+  // A node-centred axis of one sample has no interval to span: cell-centred
+  // it repeats its sample, which is all a single instant can give.
+  for (unsigned a = 0; a < axes && !failed; ++a)
+    nin->axis[a].center = node_centred[a] && in[a] > 1 && size[a] > 1 ? nrrdCenterNode : nrrdCenterCell;
+  failed = failed || nrrdResampleNrrdSet(rsmc, nin) || nrrdResampleBoundarySet(rsmc, nrrdBoundaryBleed) ||
+           nrrdResampleTypeOutSet(rsmc, nrrdTypeFloat) || nrrdResampleRenormalizeSet(rsmc, AIR_TRUE);
+  for (unsigned a = 0; a < axes && !failed; ++a)
+    failed = nrrdResampleKernelSet(rsmc, a, kernels[a], parm) ||
+             nrrdResampleSamplesSet(rsmc, a, std::size_t(size[a])) || nrrdResampleRangeFullSet(rsmc, a);
   failed = failed || nrrdResampleExecute(rsmc, nout);
   if (failed) {
     const std::string why = teem_error();
     done();
     throw Error("resample: " + why);
   }
-  Volume out(nx, ny, nz);
+  Volume out(size, 1, 0.0f);
   const float* data = static_cast<const float*>(nout->data);
   std::copy(data, data + out.voxel_count(), out.voxels.begin());
   done();
   return out;
+}
+
+}  // namespace
+
+Volume teem_resample(const Volume& src, int nx, int ny, int nz, const std::string& kernel) {
+  if (src.empty()) throw Error("resample: the volume is empty");
+  if (nx < 1 || ny < 1 || nz < 1) throw Error("resample: the output size must be at least 1x1x1");
+  const NrrdKernel* k = teem_kernel(kernel);
+  return teem_resample_axes(src, {nx, ny, nz, 1}, {k, k, k, k}, {});
+}
+
+const std::vector<std::string>& volume_series_methods() {
+  static const std::vector<std::string> names = {"quadrilinear", "tricubic-linear"};
+  return names;
+}
+
+Volume classic_resize_axes(const Volume& src, const std::array<int, 4>& size, const std::string& method,
+                           const std::array<bool, 4>& node_centred) {
+  if (src.empty()) throw Error("resize: the volume is empty");
+  const NrrdKernel* linear = nrrdKernelTent;
+  const NrrdKernel* cubic = nrrdKernelCatmullRom;
+  if (method == "quadrilinear" || method == "trilinear")
+    return teem_resample_axes(src, size, {linear, linear, linear, linear}, node_centred);
+  if (method == "tricubic-linear" || method == "tricubic")
+    return teem_resample_axes(src, size, {cubic, cubic, cubic, linear}, node_centred);
+  throw Error("unknown volume method '" + method + "' (valid: trilinear, tricubic, quadrilinear, tricubic-linear)");
 }
 
 Volume classic_resize_volume(const Volume& src, int nx, int ny, int nz, const std::string& method) {

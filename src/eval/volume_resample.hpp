@@ -21,6 +21,7 @@
 
 #include "volume/volume.hpp"
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -33,5 +34,19 @@ Volume classic_resize_volume(const Volume& src, int nx, int ny, int nz, const st
 // Teem's separable resampler with a named kernel: "tent" (linear) or
 // "catmull-rom". Exposed for the cross-check of "trilinear".
 Volume teem_resample(const Volume& src, int nx, int ny, int nz, const std::string& kernel);
+
+// The classic resamplers of volume series (4D, one channel; any nt >= 1),
+// through Teem's resampler with a kernel per axis:
+//   "quadrilinear"      tent on all four axes (linear in space and time)
+//   "tricubic-linear"   Catmull-Rom in space, tent in time
+// and a centring per axis: node_centred axes (time: steps are instants)
+// put output sample 0 on input sample 0 and the last on the last (Teem's
+// node centring), the others follow the voxel convention (cell centring).
+// Indices are clamped outside the samples (bleed), as in 3D. A 3D volume
+// (nt = 1) with "trilinear" or "tricubic" takes this path too when one of
+// its axes is node-centred.
+const std::vector<std::string>& volume_series_methods();  // {"quadrilinear", "tricubic-linear"}
+Volume classic_resize_axes(const Volume& src, const std::array<int, 4>& size, const std::string& method,
+                           const std::array<bool, 4>& node_centred);
 
 }  // namespace ddt

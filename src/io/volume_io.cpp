@@ -118,6 +118,7 @@ struct HeaderInfo {
   std::vector<std::string> data_files;  // empty when the data is attached; paths usable from here
   std::vector<std::size_t> sizes;       // of every axis
   std::vector<int> kinds;               // of every axis (Teem's nrrdKind*)
+  std::vector<int> centers;             // of every axis (Teem's nrrdCenter*)
   std::size_t sample_bytes = 0;         // of one stored sample
 };
 
@@ -254,6 +255,7 @@ HeaderInfo read_header(const std::string& path, const std::vector<std::string>& 
   for (unsigned a = 0; a < nrrd->dim; ++a) {
     info.sizes.push_back(nrrd->axis[a].size);
     info.kinds.push_back(nrrd->axis[a].kind);
+    info.centers.push_back(nrrd->axis[a].center);
   }
   info.sample_bytes = nrrdElementSize(nrrd);
   std::vector<std::string> names;
@@ -275,40 +277,44 @@ HeaderInfo read_header(const std::string& path, const std::vector<std::string>& 
 
 // A leading axis holds channels when Teem's kind calls it non-spatial
 // (vector, RGB-color, 3-vector, ...: every kind but domain, space, time and
-// unknown), or, with 4 axes, when it has size 1 (as before channels).
+// unknown), or, with 4 axes, when it has size 1 (a 3D volume, as before
+// channels), or with 5 axes unless its kind is domain, space or time.
 bool channel_axis(const std::vector<std::size_t>& sizes, const std::vector<int>& kinds) {
-  if (sizes.size() < 3 || sizes.size() > 4) return false;
+  if (sizes.size() < 3 || sizes.size() > 5) return false;
   const int kind = kinds.empty() ? nrrdKindUnknown : kinds[0];
   if (kind != nrrdKindUnknown && !nrrdKindIsDomain(kind)) return true;
+  if (sizes.size() == 5) return kind == nrrdKindUnknown;
   return sizes.size() == 4 && sizes[0] == 1;
 }
 
 // The volume's size and channels from the axis sizes (see volume_io.hpp: 2
-// spatial axes are one slice; a leading non-spatial axis holds the
-// channels); axis0 is the x axis. Throws for other shapes and for sizes
-// past an int.
-std::array<int, 4> volume_size(const std::vector<std::size_t>& sizes, const std::vector<int>& kinds,
+// spatial axes are one slice, 4 a series; a leading non-spatial axis holds
+// the channels): {nx, ny, nz, nt, channels}; axis0 is the x axis. Throws for
+// other shapes and for sizes past an int.
+std::array<int, 5> volume_size(const std::vector<std::size_t>& sizes, const std::vector<int>& kinds,
                                const std::string& path, unsigned& axis0) {
-  std::size_t size[4] = {1, 1, 1, 1};  // x, y, z, channels
+  std::size_t size[5] = {1, 1, 1, 1, 1};  // x, y, z, t, channels
   axis0 = channel_axis(sizes, kinds) ? 1 : 0;
   const std::size_t spatial = sizes.size() - axis0;
-  if (spatial == 2 || spatial == 3) {
+  if (spatial >= 2 && spatial <= 4) {
     for (unsigned a = 0; a < spatial; ++a) size[a] = sizes[a + axis0];
-    if (axis0 == 1) size[3] = sizes[0];
+    if (axis0 == 1) size[4] = sizes[0];
   } else {
     std::string text;
     for (std::size_t s : sizes) {
       if (!text.empty()) text.push_back('x');
       text.append(std::to_string(s));
     }
-    throw Error("cannot read '" + path + "': a volume has 3 axes (after a leading non-spatial axis of kind vector, "
-                "RGB-color, ... for channels), this NRRD has " + std::to_string(sizes.size()) + " (" + text + ")");
+    throw Error("cannot read '" + path + "': a volume has 3 axes, a volume series 4 (x, y, z, t; after a leading "
+                "non-spatial axis of kind vector, RGB-color, ... for channels), this NRRD has " +
+                std::to_string(sizes.size()) + " (" + text + ")");
   }
   for (std::size_t s : size)
     if (s == 0 || s > static_cast<std::size_t>(std::numeric_limits<int>::max()))
       throw Error("cannot read '" + path + "': an axis has size 0 or is too large");
-  if (size[3] > 256) throw Error("cannot read '" + path + "': more than 256 channels");
-  return {static_cast<int>(size[0]), static_cast<int>(size[1]), static_cast<int>(size[2]), static_cast<int>(size[3])};
+  if (size[4] > 256) throw Error("cannot read '" + path + "': more than 256 channels");
+  return {static_cast<int>(size[0]), static_cast<int>(size[1]), static_cast<int>(size[2]), static_cast<int>(size[3]),
+          static_cast<int>(size[4])};
 }
 
 }  // namespace
@@ -375,15 +381,18 @@ VolumeFile read_volume(const std::string& path, const VolumeReadOptions& options
   // The header's claims, before a sample is read or decompressed
   // (decompression bombs: `sizes: 400 400 400` in a 100-byte file).
   unsigned axis0 = 0;
-  const std::array<int, 4> dims = volume_size(info.sizes, info.kinds, path, axis0);
-  const std::string size_text =
+  const std::array<int, 5> dims = volume_size(info.sizes, info.kinds, path, axis0);
+  const std::array<int, 4> size{dims[0], dims[1], dims[2], dims[3]};
+  const int channels = dims[4];
+  std::string size_text =
       std::to_string(dims[0]) + "x" + std::to_string(dims[1]) + "x" + std::to_string(dims[2]);
-  check_size_limit("input '" + path + "'", size_text, checked_product({dims[0], dims[1], dims[2]}),
+  if (info.sizes.size() - axis0 == 4) size_text.append("x").append(std::to_string(dims[3]));
+  check_size_limit("input '" + path + "'", size_text, checked_product({dims[0], dims[1], dims[2], dims[3]}),
                    options.max_voxels, options.option);
   // Teem's decoded samples and our floats, both held until the copy ends.
   check_memory_fits("reading '" + path + "' (" + size_text + ")",
-                    (4.0 + double(info.sample_bytes)) * dims[0] * dims[1] * dims[2] * dims[3]);
-  if (options.check) options.check(dims[0], dims[1], dims[2], dims[3]);
+                    (4.0 + double(info.sample_bytes)) * dims[0] * dims[1] * dims[2] * dims[3] * channels);
+  if (options.check) options.check(size, channels);
   auto header = std::make_shared<VolumeHeader>();
   for (const std::string& f : files)
     if (const auto id = file_id(f)) header->sources.push_back(*id);
@@ -412,7 +421,9 @@ VolumeFile read_volume(const std::string& path, const VolumeReadOptions& options
   for (unsigned a = 0; a < nin->dim; ++a) sizes.push_back(nin->axis[a].size);
   if (sizes != info.sizes) throw Error("cannot read '" + path + "': the file changed while it was read");
   header->axis0 = axis0;
-  file.volume = Volume(dims[0], dims[1], dims[2], dims[3], 0.0f);
+  file.volume = Volume(size, channels, 0.0f);
+  // A series' time steps are instants unless the header says they are cells.
+  if (info.sizes.size() - axis0 == 4) file.node_centred[3] = info.centers[axis0 + 3] != nrrdCenterCell;
   const std::size_t n = file.volume.voxels.size();
   for (std::size_t i = 0; i < n; ++i) {
     const double v = nrrdDLookup[nin->type](nin->data, i);
@@ -455,7 +466,7 @@ void check_volume_output_path(const std::string& output, const std::string& inpu
 }
 
 void write_volume(const std::string& path, const Volume& volume, VolumeSampleType type, VolumeEncoding encoding,
-                  const VolumeHeader* like, const std::string& comment) {
+                  const VolumeHeader* like, const std::string& comment, const std::array<bool, 4>& node_centred) {
   if (volume.empty()) throw Error("cannot write '" + path + "': the volume is empty");
   if (!is_volume_path(path)) throw Error("cannot write '" + path + "': a volume is written as .nrrd or .nhdr");
   const TypeInfo& info = type_info(type);
@@ -475,20 +486,27 @@ void write_volume(const std::string& path, const Volume& volume, VolumeSampleTyp
     throw Error("cannot write '" + path + "': the volume has another number of channels than its input");
   // A channel axis leads when there are channels or the input had one.
   const unsigned axis0 = (like ? like->axis0 : 0) == 1 || channels > 1 ? 1 : 0;
-  const bool flat = like && like->nrrd->dim == 2 + axis0 && volume.nz == 1;
-  const unsigned spatial = flat ? 2 : 3;
-  std::size_t sizes[4] = {channels, std::size_t(volume.nx), std::size_t(volume.ny), std::size_t(volume.nz)};
+  const bool flat = like && like->nrrd->dim == 2 + axis0 && volume.nz == 1 && volume.nt == 1;
+  // A series has four domain axes; so has the output of a series' header.
+  const bool series = volume.nt > 1 || (like && like->nrrd->dim == 4 + axis0);
+  const unsigned spatial = flat ? 2 : series ? 4 : 3;
+  // (A one-slice input enlarged along its thin axis is written with 3 axes, as always.)
+  if (series && like && like->nrrd->dim != spatial + axis0)
+    throw Error("cannot write '" + path + "': a volume series written with the header of a 3D volume");
+  std::size_t sizes[5] = {channels, std::size_t(volume.nx), std::size_t(volume.ny), std::size_t(volume.nz),
+                          std::size_t(volume.nt)};
   const int allocated = wrapped ? nrrdWrap_nva(nout, const_cast<float*>(volume.voxels.data()), info.teem,
                                                spatial + axis0, sizes + (1 - axis0))
                                  : nrrdAlloc_nva(nout, info.teem, spatial + axis0, sizes + (1 - axis0));
   if (allocated) throw Error("cannot write '" + path + "': " + teem_error());
-  const std::size_t nx = volume.nx, ny = volume.ny, nz = volume.nz;
   if (!wrapped)
     for (std::size_t i = 0; i < volume.voxels.size(); ++i) {
       double v = volume.voxels[i];
       if (info.integer) v = std::clamp(std::nearbyint(v), info.lo, info.hi);
       nrrdDInsert[info.teem](nout->data, i, v);
     }
+  const std::size_t new_size[4] = {std::size_t(volume.nx), std::size_t(volume.ny), std::size_t(volume.nz),
+                                   std::size_t(volume.nt)};
   if (like) {
     const Nrrd* nin = like->nrrd;
     if (nrrdBasicInfoCopy(nout, nin,
@@ -496,25 +514,28 @@ void write_volume(const std::string& path, const Volume& volume, VolumeSampleTyp
                               NRRD_BASIC_INFO_DIMENSION_BIT | NRRD_BASIC_INFO_OLDMIN_BIT | NRRD_BASIC_INFO_OLDMAX_BIT) ||
         nrrdAxisInfoCopy(nout, nin, nullptr, NRRD_AXIS_INFO_SIZE_BIT))
       throw Error("cannot write '" + path + "': " + teem_error());
-    const std::size_t new_size[3] = {nx, ny, nz};
     for (unsigned a = 0; a < spatial; ++a) {
       NrrdAxisInfo& ax = nout->axis[axis0 + a];
-      const double s = double(new_size[a]) / double(nin->axis[axis0 + a].size);
+      const double n_in = double(nin->axis[axis0 + a].size), n_out = double(new_size[a]);
+      // Instants keep the first and last in place: (n - 1) intervals between them.
+      const bool node = node_centred[a] && n_in > 1 && n_out > 1;
+      const double s = node ? (n_out - 1) / (n_in - 1) : n_out / n_in;
       if (std::isfinite(ax.spacing)) ax.spacing /= s;
       if (std::isfinite(ax.thickness)) ax.thickness /= s;
       if (nout->spaceDim > 0 && std::isfinite(ax.spaceDirection[0])) {
         const bool origin = std::isfinite(nout->spaceOrigin[0]);
         for (unsigned d = 0; d < nout->spaceDim; ++d) {
-          if (origin) nout->spaceOrigin[d] += (0.5 / s - 0.5) * ax.spaceDirection[d];
+          if (origin && !node) nout->spaceOrigin[d] += (0.5 / s - 0.5) * ax.spaceDirection[d];
           ax.spaceDirection[d] /= s;
         }
       }
-      ax.center = nrrdCenterCell;
+      ax.center = node ? nrrdCenterNode : nrrdCenterCell;
     }
   } else {
     for (unsigned a = 0; a < spatial; ++a) {
-      nout->axis[axis0 + a].center = nrrdCenterCell;
-      if (axis0 == 1) nout->axis[axis0 + a].kind = nrrdKindDomain;
+      const bool node = node_centred[a] && new_size[a] > 1;
+      nout->axis[axis0 + a].center = node ? nrrdCenterNode : nrrdCenterCell;
+      if (axis0 == 1 || series) nout->axis[axis0 + a].kind = a == 3 ? nrrdKindTime : nrrdKindDomain;
     }
     if (axis0 == 1) nout->axis[0].kind = channels == 3 ? nrrdKind3Vector : nrrdKindVector;
   }

@@ -10,16 +10,20 @@
 //     output is rounded and clamped to its type's range.
 //   - Any encoding Teem reads is accepted (raw, gzip, bzip2, ascii, hex);
 //     the output keeps the input's encoding unless asked otherwise.
-//   - A volume has 3 spatial axes (2: one slice, nz = 1), after a leading
+//   - A volume has 3 spatial axes (2: one slice, nz = 1), or 4 for a
+//     volume series (x, y, z, t: Volume::nt time steps), after a leading
 //     non-spatial axis when there are channels: the first axis holds the
 //     channels when Teem's kind calls it non-spatial (vector, RGB-color,
 //     3-vector, 3-color, 4-color, RGBA-color, ...: any kind but domain,
-//     space, time and unknown), or, with 4 axes, when it has size 1. The
-//     channels are read interleaved (Volume::channels). A 4-axis NRRD
-//     whose first axis is spatial or of unknown kind with size > 1 is
-//     refused. Written volumes keep the input's axes and kinds; a volume
-//     of several channels without an input header gets a leading axis of
-//     kind 3-vector (3 channels) or vector.
+//     space, time and unknown), or, with 4 axes, when it has size 1 (a 3D
+//     volume, as before series were read), or with 5 axes whatever its kind
+//     but domain, space or time. The channels are read interleaved
+//     (Volume::channels). Written volumes keep the input's axes and kinds; a
+//     volume of several channels without an input header gets a leading
+//     axis of kind 3-vector (3 channels) or vector, a series without one a
+//     time axis of kind time.
+//   - The time axis of a series is node-centred (its steps are instants)
+//     unless its header says "centers: cell" for it: VolumeFile::node_centred.
 //   - Writing is atomic and exclusive (safe_file.hpp): everything is
 //     written into a private directory beside the target, every write
 //     error seen, and renamed into place only after a complete, synced
@@ -38,11 +42,17 @@
 //                                += (0.5 / s - 0.5) * old space direction
 //   axis min / max               unchanged (the same cells are covered)
 //   centering                    cell
-// so every output sample sits at its true world position.
+// and on a node-centred axis (a series' time: the first and last samples
+// stay where they were), with s = (n_out - 1) / (n_in - 1):
+//   spacing and space direction  /= s
+//   space origin, axis min / max unchanged
+//   centering                    node
+// so every output sample sits at its true world position (or instant).
 
 #include "util/size_limits.hpp"
 #include "volume/volume.hpp"
 
+#include <array>
 #include <functional>
 #include <memory>
 #include <string>
@@ -68,6 +78,10 @@ struct VolumeFile {
   VolumeSampleType type = VolumeSampleType::float32;
   VolumeEncoding encoding = VolumeEncoding::raw;
   std::shared_ptr<const VolumeHeader> header;  // null for volumes not read from a file
+  // Per axis x, y, z, t: samples are instants (node centring). Spatial axes
+  // are read as cells (the voxel convention); the time axis of a series as
+  // instants unless its header says "centers: cell".
+  std::array<bool, 4> node_centred{};
 };
 
 // True for the extensions write_volume and read_volume handle: .nrrd, .nhdr
@@ -87,7 +101,7 @@ struct VolumeReadOptions {
   // sizes its whole job there: the size, then the channels).
   long long max_voxels = default_max_input_voxels();
   std::string option = "--max-input-voxels";
-  std::function<void(int nx, int ny, int nz, int channels)> check;
+  std::function<void(const std::array<int, 4>& size, int channels)> check;  // size: nx, ny, nz, nt
 };
 
 // Reads a NRRD file. The header and every data file it names must be
@@ -101,9 +115,12 @@ std::vector<std::string> volume_files(const std::string& path, const VolumeReadO
 // Writes `volume` to `path` (.nrrd or .nhdr) as `type` with `encoding`.
 // like: the header of the volume it was made from (may be null); its
 // geometry is scaled to `volume`'s size as described above. `comment`, when
-// not empty, is added as a NRRD comment line.
+// not empty, is added as a NRRD comment line. node_centred: per axis x, y,
+// z, t, the output axes written as instants (geometry scaled as above; the
+// t flag matters for series only).
 void write_volume(const std::string& path, const Volume& volume, VolumeSampleType type, VolumeEncoding encoding,
-                  const VolumeHeader* like = nullptr, const std::string& comment = {});
+                  const VolumeHeader* like = nullptr, const std::string& comment = {},
+                  const std::array<bool, 4>& node_centred = {false, false, false, true});
 
 // Throws if `output` cannot be written as a volume: it or the data file a
 // .nhdr output would write is one of the files `input` is read from (by

@@ -10,6 +10,7 @@
 #include "volume/presmooth.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 namespace ddt {
@@ -57,65 +58,46 @@ Volume upscale_planar(const Volume& src, const int out[3], const VolumeUpscaleOp
   return result;
 }
 
-}  // namespace
+// The values and the axes of the mesh reconstruction in D dimensions.
+template <int D>
+struct GridProblem {
+  const std::vector<float>& values;  // #samples by channels
+  std::array<int, D> input{}, output{};
+  std::array<bool, D> node_centred{};
+  int channels = 1;
+  std::array<double, D> presmooth{};  // the graduated optimization's sigmas, per axis
+};
 
-int volume_region_slices(int nx, int ny, int nz) {
-  const long long cells_per_slice = 6LL * std::max(1, nx - 1) * std::max(1, ny - 1);  // 6 per cube
-  if (cells_per_slice * std::max(1, nz - 1) <= 2 * core::default_region_cells) return nz;
-  return static_cast<int>(std::max(16LL, core::default_region_cells / cells_per_slice));
-}
-
-const std::vector<std::string>& volume_upscale_methods() {
-  static const std::vector<std::string> names = {"ddt", "delaunay", "trilinear", "tricubic"};
-  return names;
-}
-
-Volume upscale_volume(const Volume& src, int nx, int ny, int nz, const VolumeUpscaleOptions& options,
-                      VolumeUpscaleStats* stats) {
-  if (src.empty() || src.nx <= 0 || src.ny <= 0 || src.nz <= 0) throw Error("the input volume is empty");
-  if (src.channels < 1 || src.voxels.size() != src.voxel_count() * src.channels)
-    throw Error("the input volume's samples do not match its size and channels");
-  if (options.method == "ddt" && src.channels > max_cost_channels)
-    throw Error("a volume of " + std::to_string(src.channels) + " channels: the flip costs take at most " +
-                std::to_string(max_cost_channels));
-  if (nx < 1 || ny < 1 || nz < 1) throw Error("the output size must be at least 1x1x1");
-  const auto& methods = volume_upscale_methods();
-  if (std::find(methods.begin(), methods.end(), options.method) == methods.end())
-    throw Error("unknown method '" + options.method + "' (valid: ddt, delaunay, trilinear, tricubic)");
-  const CostFunction& cost = find_cost(options.cost);
-  VolumeUpscaleStats local;
-  const StageRunner stages(options.log);
+// "ddt" and "delaunay" on a D-dimensional grid (D = 3: volumes, D = 4:
+// series; every axis > 1 sample): the grid's Delaunay mesh, the Lawson
+// procedure in slabs along the last axis, the scan conversion.
+template <int D>
+std::vector<float> mesh_reconstruction(const GridProblem<D>& grid, const VolumeUpscaleOptions& options,
+                                       const CostFunction& cost, const StageRunner& stages,
+                                       VolumeUpscaleStats& local) {
   auto log = [&](const std::string& line) { stages.log(line); };
-  if (options.method == "trilinear" || options.method == "tricubic") {
-    auto t0 = Clock::now();
-    Volume out(nx, ny, nz, src.channels, 0.0f);
-    for (int c = 0; c < src.channels; ++c)
-      set_volume_channel(out, c, classic_resize_volume(src.channels == 1 ? src : volume_channel(src, c), nx, ny, nz,
-                                                       options.method));
-    local.seconds_render = seconds_since(t0);
-    if (stats) *stats = local;
-    return out;
-  }
-  const int out_size[3] = {nx, ny, nz};
-  if (src.nx == 1 || src.ny == 1 || src.nz == 1) {
-    log("a single slice: enlarged by the 2D method and repeated along the thin axis");
-    Volume out = upscale_planar(src, out_size, options, local);
-    if (stats) *stats = local;
-    return out;
-  }
-
+  auto sizes_text = [](const std::array<int, D>& n) {
+    std::string text;
+    for (int k = 0; k < D; ++k) text.append(k ? "x" : "").append(std::to_string(n[k]));
+    return text;
+  };
   auto t0 = Clock::now();
-  core::SimplexMesh<3> mesh = core::grid_delaunay<3>({src.nx, src.ny, src.nz});  // = CGAL's Delaunay of the voxel centres
+  core::SimplexMesh<D> mesh = core::grid_delaunay<D>(grid.input);  // = CGAL's Delaunay of the sample points
   local.seconds_triangulate = seconds_since(t0);
   local.tetrahedra = mesh.cell_count();
-  log("tetrahedralize: " + std::to_string(mesh.points.size()) + " points, " + std::to_string(mesh.cell_count()) +
-      " tetrahedra, " + std::to_string(local.seconds_triangulate) + " s");
+  log(std::string(D == 3 ? "tetrahedralize: " : "triangulate: ") + std::to_string(mesh.points.size()) +
+      " points, " + std::to_string(mesh.cell_count()) + (D == 3 ? " tetrahedra, " : " simplices, ") + std::to_string(local.seconds_triangulate) + " s");
 
   t0 = Clock::now();
   if (options.method == "ddt") {
     core::LawsonOptions lawson = lawson_options<core::LawsonOptions>(options);
-    const int slices = options.region_slices > 0 ? options.region_slices : volume_region_slices(src.nx, src.ny, src.nz);
-    lawson.region_vertices = slices >= src.nz ? -1 : static_cast<long long>(slices) * src.nx * src.ny;
+    std::array<int, 4> size4{1, 1, 1, 1};
+    for (int k = 0; k < D; ++k) size4[k] = grid.input[k];
+    const int last = grid.input[D - 1];
+    const int slices = options.region_slices > 0 ? options.region_slices : volume_region_slices(size4);
+    long long per_slice = 1;
+    for (int k = 0; k < D - 1; ++k) per_slice *= grid.input[k];
+    lawson.region_vertices = slices >= last ? -1 : static_cast<long long>(slices) * per_slice;
     if (stages.logging())
       lawson.on_iteration = [&](int iteration, const core::FlipCounts& flips, double total) {
         char line[300];
@@ -123,47 +105,202 @@ Volume upscale_volume(const Volume& src, int nx, int ny, int nz, const VolumeUps
                       flips.summary().c_str(), total);
         log(line);
       };
-    if (options.presmooth[0] > 0 || options.presmooth[1] > 0 || options.presmooth[2] > 0) {
-      const std::vector<float> smooth = smoothed_grid(
-          src.voxels, {src.nx, src.ny, src.nz}, src.channels,
-          {options.presmooth[0], options.presmooth[1], options.presmooth[2]});
-      const core::LawsonStats pre = core::optimize_lawson<3>(mesh, smooth, src.channels, cost, lawson);
+    if (std::any_of(grid.presmooth.begin(), grid.presmooth.end(), [](double sigma) { return sigma > 0; })) {
+      const std::vector<float> smooth =
+          smoothed_grid(grid.values, std::vector<int>(grid.input.begin(), grid.input.end()), grid.channels,
+                        std::vector<double>(grid.presmooth.begin(), grid.presmooth.end()));
+      const core::LawsonStats pre = core::optimize_lawson<D>(mesh, smooth, grid.channels, cost, lawson);
       local.presmooth_flips = pre.flips.total();
-      char line[300];
-      std::snprintf(line, sizeof line, "optimize on the smoothed samples (sigma %g, %g, %g): %d iterations, flips %s",
-                    options.presmooth[0], options.presmooth[1], options.presmooth[2], pre.iterations,
-                    pre.flips.summary().c_str());
-      log(line);
+      log("optimize on the smoothed samples: " + std::to_string(pre.iterations) + " iterations, flips " +
+          pre.flips.summary());
     }
-    const core::LawsonStats ls = core::optimize_lawson<3>(mesh, src.voxels, src.channels, cost, lawson);
+    const core::LawsonStats ls = core::optimize_lawson<D>(mesh, grid.values, grid.channels, cost, lawson);
     local.take(ls);
     local.tetrahedra = mesh.cell_count();
     local.seconds_optimize = seconds_since(t0);
     char line[400];
     std::snprintf(line, sizeof line,
                   "optimize: cost %s, %d iterations, %d slabs, flips %s (total %lld), %lld tests (%lld deferred), cost "
-                  "%.9g -> %.9g, %lld tetrahedra, %.3f s",
+                  "%.9g -> %.9g, %lld %s, %.3f s",
                   cost.name, local.iterations, ls.regions, local.flips.summary().c_str(), local.flips.total(), ls.tests,
-                  ls.deferred, local.cost_before, local.cost_after, local.tetrahedra, local.seconds_optimize);
+                  ls.deferred, local.cost_before, local.cost_after, local.tetrahedra,
+                  D == 3 ? "tetrahedra" : "simplices", local.seconds_optimize);
     log(line);
   }
 
   t0 = Clock::now();
   core::ScanStats rs;
-  Volume out;
-  out.nx = nx, out.ny = ny, out.nz = nz, out.channels = src.channels;
   const bool cubic = options.render == Render::cubic;
   const std::vector<float> gradients =
-      cubic ? grid_slopes(src.voxels.data(), {src.nx, src.ny, src.nz}, src.channels, options.slopes)
+      cubic ? grid_slopes(grid.values.data(), std::vector<int>(grid.input.begin(), grid.input.end()), grid.channels,
+                          options.slopes)
             : std::vector<float>{};
-  out.voxels = core::scan_convert<3>(mesh, src.voxels, src.channels,
-                                     core::ScanGrid<3>::whole({src.nx, src.ny, src.nz}, {nx, ny, nz}, options.node_centred), &rs,
-                                     cubic ? &gradients : nullptr);
+  std::vector<float> out =
+      core::scan_convert<D>(mesh, grid.values, grid.channels,
+                            core::ScanGrid<D>::whole(grid.input, grid.output, grid.node_centred), &rs,
+                            cubic ? &gradients : nullptr);
   local.seconds_render = seconds_since(t0);
-  log("render: " + std::to_string(nx) + "x" + std::to_string(ny) + "x" + std::to_string(nz) + ", " +
-      to_string(options.render) + ", " +
-      std::to_string(rs.owned) + " voxels in tetrahedra + " + std::to_string(rs.rim) + " on the hull rim, " +
+  log("render: " + sizes_text(grid.output) + ", " + to_string(options.render) + ", " + std::to_string(rs.owned) +
+      (D == 3 ? " voxels in tetrahedra + " : " samples in simplices + ") + std::to_string(rs.rim) + " on the hull rim, " +
       std::to_string(local.seconds_render) + " s");
+  return out;
+}
+
+// `small` (of size out with 1 on the axes in `repeat`) repeated along
+// those axes to the size `out`. A size-1 axis does not change the layout,
+// so each sample of `small` is copied to every position of its line.
+Volume repeat_along(const Volume& small, const std::array<int, 4>& out, const std::array<bool, 4>& repeat) {
+  Volume result(out, small.channels, 0.0f);
+  const std::size_t C = small.channels;
+  for (int t = 0; t < out[3]; ++t)
+    for (int z = 0; z < out[2]; ++z)
+      for (int y = 0; y < out[1]; ++y)
+        for (int x = 0; x < out[0]; ++x) {
+          const std::size_t from = small.index(repeat[0] ? 0 : x, repeat[1] ? 0 : y, repeat[2] ? 0 : z,
+                                               repeat[3] ? 0 : t);
+          const std::size_t to = result.index(x, y, z, t);
+          std::copy_n(small.voxels.begin() + from * C, C, result.voxels.begin() + to * C);
+        }
+  return result;
+}
+
+bool is_3d(const Volume& src, const std::array<int, 4>& size) { return src.nt == 1 && size[3] == 1; }
+
+// The classic methods, channel by channel.
+Volume classic_upscale(const Volume& src, const std::array<int, 4>& size, const VolumeUpscaleOptions& options) {
+  const bool node_axes = options.node_centred[0] || options.node_centred[1] || options.node_centred[2];
+  Volume out(size, src.channels, 0.0f);
+  for (int c = 0; c < src.channels; ++c) {
+    const Volume channel = src.channels == 1 ? src : volume_channel(src, c);
+    // 3D without node-centred axes: the 3D resamplers as they always were.
+    set_volume_channel(out, c,
+                       is_3d(src, size) && !node_axes
+                           ? classic_resize_volume(channel, size[0], size[1], size[2], options.method)
+                           : classic_resize_axes(channel, size, options.method, options.node_centred));
+  }
+  return out;
+}
+
+}  // namespace
+
+int enlarged_size(int n, double s, bool node_centred) {
+  const double m = node_centred && n > 1 ? std::round((n - 1) * s) + 1 : std::round(n * s);
+  return static_cast<int>(std::clamp(m, 1.0, 2147483647.0));
+}
+
+int volume_region_slices(const std::array<int, 4>& size) {
+  const int D = size[3] > 1 ? 4 : 3;
+  long long cells_per_slice = simplices_per_grid_cell(D);
+  for (int k = 0; k < D - 1; ++k) cells_per_slice *= std::max(1, size[k] - 1);
+  const int last = size[D - 1];
+  if (cells_per_slice * std::max(1, last - 1) <= 2 * core::default_region_cells) return last;
+  // A flip reaches one slice on either side, so thinner slabs defer too much.
+  return static_cast<int>(std::max(16LL, core::default_region_cells / cells_per_slice));
+}
+
+int volume_region_slices(int nx, int ny, int nz) { return volume_region_slices({nx, ny, nz, 1}); }
+
+const std::vector<std::string>& volume_upscale_methods() {
+  static const std::vector<std::string> names = {"ddt", "delaunay", "trilinear", "tricubic"};
+  return names;
+}
+
+const std::vector<std::string>& volume_series_upscale_methods() {
+  static const std::vector<std::string> names = {"ddt",          "delaunay",  "quadrilinear", "tricubic-linear",
+                                                 "trilinear",    "tricubic"};
+  return names;
+}
+
+Volume upscale_volume(const Volume& src, int nx, int ny, int nz, const VolumeUpscaleOptions& options,
+                      VolumeUpscaleStats* stats) {
+  return upscale_volume(src, {nx, ny, nz, src.nt}, options, stats);
+}
+
+Volume upscale_volume(const Volume& src, const std::array<int, 4>& size, const VolumeUpscaleOptions& options,
+                      VolumeUpscaleStats* stats) {
+  if (src.empty() || src.nx <= 0 || src.ny <= 0 || src.nz <= 0 || src.nt <= 0) throw Error("the input volume is empty");
+  if (src.channels < 1 || src.voxels.size() != src.voxel_count() * src.channels)
+    throw Error("the input volume's samples do not match its size and channels");
+  if (options.method == "ddt" && src.channels > max_cost_channels)
+    throw Error("a volume of " + std::to_string(src.channels) + " channels: the flip costs take at most " +
+                std::to_string(max_cost_channels));
+  if (size[0] < 1 || size[1] < 1 || size[2] < 1 || size[3] < 1)
+    throw Error("the output size must be at least 1 on every axis");
+  const bool series = !is_3d(src, size);
+  const auto& methods = series ? volume_series_upscale_methods() : volume_upscale_methods();
+  if (std::find(methods.begin(), methods.end(), options.method) == methods.end())
+    throw Error("unknown method '" + options.method + "' (valid: " +
+                (series ? "ddt, delaunay, quadrilinear, tricubic-linear" : "ddt, delaunay, trilinear, tricubic") + ")");
+  const CostFunction& cost = find_cost(options.cost);
+  VolumeUpscaleStats local;
+  const StageRunner stages(options.log);
+  auto log = [&](const std::string& line) { stages.log(line); };
+  if (options.method != "ddt" && options.method != "delaunay") {
+    auto t0 = Clock::now();
+    Volume out = classic_upscale(src, size, options);
+    local.seconds_render = seconds_since(t0);
+    if (stats) *stats = local;
+    return out;
+  }
+  const std::array<int, 4> in = src.size();
+  if (series) {
+    // keep[a]: axis a enters a 3D problem: every axis of more than one
+    // sample and, when they are fewer than three, the first others (thin
+    // axes, which the 3D path handles). A dropped axis has one sample, so
+    // dropping it keeps the layout; the result is repeated along it.
+    std::array<bool, 4> keep{};
+    int kept = 0;
+    for (int a = 0; a < 4; ++a) kept += keep[a] = in[a] > 1;
+    if (kept == 4) {
+      Volume out;
+      out.nx = size[0], out.ny = size[1], out.nz = size[2], out.nt = size[3], out.channels = src.channels;
+      const GridProblem<4> grid{src.voxels, in, size, options.node_centred, src.channels, options.presmooth};
+      out.voxels = mesh_reconstruction<4>(grid, options, cost, stages, local);
+      if (stats) *stats = local;
+      return out;
+    }
+    for (int a = 0; a < 4 && kept < 3; ++a)
+      if (!keep[a]) keep[a] = true, ++kept;
+    std::array<int, 3> in3{1, 1, 1}, out3{1, 1, 1};
+    std::array<bool, 4> node3{};
+    std::array<double, 4> presmooth3{};
+    std::array<int, 4> small_size{};
+    std::array<bool, 4> repeat{};
+    for (int a = 0, j = 0; a < 4; ++a) {
+      small_size[a] = keep[a] ? size[a] : 1;
+      repeat[a] = !keep[a];
+      if (!keep[a]) continue;
+      in3[j] = in[a], out3[j] = size[a], node3[j] = options.node_centred[a], presmooth3[j] = options.presmooth[a];
+      ++j;
+    }
+    log("axes of one sample: enlarged as " + std::to_string(in3[0]) + "x" + std::to_string(in3[1]) + "x" +
+        std::to_string(in3[2]) + " and repeated along the others");
+    Volume reduced;
+    reduced.nx = in3[0], reduced.ny = in3[1], reduced.nz = in3[2], reduced.channels = src.channels;
+    reduced.voxels = src.voxels;
+    VolumeUpscaleOptions o = options;
+    o.node_centred = node3;
+    o.presmooth = presmooth3;
+    const Volume small = upscale_volume(reduced, out3[0], out3[1], out3[2], o, &local);
+    Volume shaped = small;
+    shaped.nx = small_size[0], shaped.ny = small_size[1], shaped.nz = small_size[2], shaped.nt = small_size[3];
+    Volume out = repeat_along(shaped, size, repeat);
+    if (stats) *stats = local;
+    return out;
+  }
+  if (src.nx == 1 || src.ny == 1 || src.nz == 1) {
+    log("a single slice: enlarged by the 2D method and repeated along the thin axis");
+    const int out3[3] = {size[0], size[1], size[2]};
+    Volume out = upscale_planar(src, out3, options, local);
+    if (stats) *stats = local;
+    return out;
+  }
+  Volume out;
+  out.nx = size[0], out.ny = size[1], out.nz = size[2], out.channels = src.channels;
+  const GridProblem<3> grid{src.voxels, {in[0], in[1], in[2]}, {size[0], size[1], size[2]},
+                            {options.node_centred[0], options.node_centred[1], options.node_centred[2]}, src.channels,
+                            {options.presmooth[0], options.presmooth[1], options.presmooth[2]}};
+  out.voxels = mesh_reconstruction<3>(grid, options, cost, stages, local);
   if (stats) *stats = local;
   return out;
 }

@@ -25,6 +25,21 @@
 // Methods: "ddt" (default), "delaunay" (the initial mesh, no flips), and the
 // classic "trilinear" and "tricubic" (volume_resample.hpp).
 //
+// Volume series (4D: nt > 1 time steps, volume.hpp). The same pipeline one
+// dimension up, written once as a template on D and run with D = 4: the
+// Delaunay mesh of the 4D grid (core::grid_delaunay<4>, 24 simplices per
+// grid cell), the generic flips and the Lawson procedure with its slabs
+// along t, the limited slopes of all four axes for the cubic render, and
+// core::scan_convert<4>. The time axis is normally node-centred (steps are
+// instants: n steps enlarged by s become (n - 1) s + 1 and output step s k is
+// input step k). Classic methods of series: "quadrilinear" and
+// "tricubic-linear" (Catmull-Rom in space, linear in time), through Teem's
+// resampler with a kernel and a centring per axis; "trilinear" and
+// "tricubic" are taken as their names for series too. Axes of one sample
+// are dropped before the reconstruction (a 2D + t series is a 3D problem)
+// and the result repeated along them; a 3D input enlarged to several time
+// steps is repeated along t.
+//
 // Errors: throws ddt::Error (empty volume, bad size, unknown method or cost).
 
 #include "core/lawson.hpp"
@@ -57,21 +72,23 @@ struct VolumeUpscaleOptions {
   // node centring; the frames of a sequence on z): the output's first and
   // last samples sit on the input's first and last, so n samples enlarged
   // to (n - 1) * s + 1 keep every input sample at every s-th output sample.
-  std::array<bool, 3> node_centred{};
+  // Four flags, x, y, z, t (the t flag matters for series only).
+  std::array<bool, 4> node_centred{};
   // Graduated optimization: when a sigma is > 0, the Lawson procedure runs
   // first on the samples smoothed by a Gaussian of that sigma (in samples)
-  // along each axis (presmooth.hpp), then on the samples themselves from
-  // the mesh it reached. The smoothed cost has fewer local minima, so flip
-  // sequences that an unsmoothed step would refuse get under way: on
-  // moving edges in space-time it is worth up to 12 dB (docs/sequences.md).
-  std::array<double, 3> presmooth{};
+  // along each axis (x, y, z, t; presmooth.hpp), then on the samples
+  // themselves from the mesh it reached. The smoothed cost has fewer local
+  // minima, so flip sequences that an unsmoothed step would refuse get
+  // under way: on moving edges in space-time it is worth up to 11.5 dB
+  // (docs/sequences.md).
+  std::array<double, 4> presmooth{};
   std::function<void(const std::string&)> log;  // verbose lines; may be empty
 };
 
 // The stage seconds and the optimizer's summary (flips by kind;
 // pipeline/stages.hpp), and what is the volumes' own.
 struct VolumeUpscaleStats : StageSeconds, OptimizerSummary<core::FlipCounts> {
-  long long tetrahedra = 0;
+  long long tetrahedra = 0;     // simplices of the mesh (tetrahedra; 4-simplices for series)
   bool planar = false;          // handled by the 2D method (a single slice)
   long long planar_flips = 0;   // its 2D edge flips
   long long presmooth_flips = 0;  // of the graduated optimization's first pass
@@ -82,15 +99,30 @@ struct VolumeUpscaleStats : StageSeconds, OptimizerSummary<core::FlipCounts> {
 inline constexpr long long default_max_voxels = 1LL << 29;
 
 const std::vector<std::string>& volume_upscale_methods();  // ddt, delaunay, trilinear, tricubic
+// Every method a series takes: ddt, delaunay, quadrilinear, tricubic-linear (and trilinear, tricubic).
+const std::vector<std::string>& volume_series_upscale_methods();
+
+// The simplices per grid cell of the Delaunay mesh: 6 in 3D, 24 in 4D
+// (for sizing the memory of a job).
+inline constexpr int simplices_per_grid_cell(int dimension) { return dimension == 4 ? 24 : dimension == 3 ? 6 : 2; }
 
 // The default slab of the schedule for an nx x ny x nz volume: about
 // core::default_region_cells tetrahedra, at least 16 slices (a flip reaches
 // one slice on either side, so thinner slabs defer too much); the whole
 // volume (one region, the sequential procedure) up to twice that.
 int volume_region_slices(int nx, int ny, int nz);
+// The same for a series: slabs of time steps (nt > 1), or of slices.
+int volume_region_slices(const std::array<int, 4>& size);
 
 // Enlarges `src` to nx x ny x nz (each >= 1).
 Volume upscale_volume(const Volume& src, int nx, int ny, int nz, const VolumeUpscaleOptions& options = {},
                       VolumeUpscaleStats* stats = nullptr);
+// Enlarges `src` (3D or a series) to size = {nx, ny, nz, nt} (each >= 1).
+Volume upscale_volume(const Volume& src, const std::array<int, 4>& size, const VolumeUpscaleOptions& options = {},
+                      VolumeUpscaleStats* stats = nullptr);
+
+// The output size along an axis of n samples enlarged by s: round(n s)
+// (at least 1), or (n - 1) s + 1 rounded on a node-centred axis (n > 1).
+int enlarged_size(int n, double s, bool node_centred);
 
 }  // namespace ddt

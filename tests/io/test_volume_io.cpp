@@ -139,15 +139,21 @@ TEST_CASE("read_volume: bad files give one-line errors") {
   }
   CHECK_THROWS_AS(read_volume(dir / "short.nrrd"), Error);
   {
-    std::ofstream rgb(dir / "rgb.nrrd");
-    rgb << "NRRD0004\ntype: uchar\ndimension: 4\nsizes: 3 2 2 2\nencoding: ascii\n\n";
-    for (int i = 0; i < 24; ++i) rgb << "1 ";
+    // 4 axes of unknown kind are a series (x, y, z, t) now; 6 axes are nothing we read.
+    std::ofstream four(dir / "four.nrrd");
+    four << "NRRD0004\ntype: uchar\ndimension: 4\nsizes: 3 2 2 2\nencoding: ascii\n\n";
+    for (int i = 0; i < 24; ++i) four << "1 ";
+    std::ofstream six(dir / "six.nrrd");
+    six << "NRRD0004\ntype: uchar\ndimension: 6\nsizes: 3 2 2 2 2 2\nencoding: ascii\n\n";
+    for (int i = 0; i < 96; ++i) six << "1 ";
   }
+  CHECK(read_volume(dir / "four.nrrd").volume.size() == std::array<int, 4>{3, 2, 2, 2});
   try {
-    read_volume(dir / "rgb.nrrd");
+    read_volume(dir / "six.nrrd");
     FAIL("no error");
   } catch (const Error& e) {
-    CHECK(std::string(e.what()).find("3x2x2x2") != std::string::npos);
+    CHECK(std::string(e.what()).find("3x2x2x2x2x2") != std::string::npos);
+    CHECK(std::string(e.what()).find('\n') == std::string::npos);
   }
   CHECK_THROWS_AS(write_volume(dir / "x.png", Volume(2, 2, 2), VolumeSampleType::uint8, VolumeEncoding::raw), Error);
 }
@@ -164,6 +170,9 @@ TEST_CASE("read_volume: a 2-axis NRRD is one slice; a leading axis of size 1 is 
   CHECK(s.volume.ny == 2);
   CHECK(s.volume.nz == 1);
   CHECK(s.encoding == VolumeEncoding::ascii);
+  // Enlarged along its thin axis too, it is written with 3 axes (as before series).
+  write_volume(dir / "slice2.nrrd", Volume(6, 4, 2), s.type, VolumeEncoding::raw, s.header.get());
+  CHECK(read_volume(dir / "slice2.nrrd").volume.size() == std::array<int, 4>{6, 4, 2, 1});
   const VolumeFile f = read_volume(dir / "scalar4.nrrd");
   CHECK(f.volume.nx == 2);
   CHECK(f.volume.nz == 2);
@@ -268,4 +277,106 @@ TEST_CASE("read_volume / write_volume: a 3-vector slice, and channels written wi
   const VolumeFile back = read_volume(dir / "two.nhdr");
   CHECK(back.volume.channels == 2);
   CHECK(back.volume.voxels == two.voxels);
+}
+
+namespace {
+
+// A 4-axis series (x, y, z, t) written by Teem directly: world geometry on
+// the spatial axes, a time axis of kind time with spacing and centring
+// given (center: nrrdCenterNode, nrrdCenterCell or nrrdCenterUnknown).
+void write_series_nrrd(const std::string& path, const Volume& v, int center) {
+  Nrrd* n = nrrdNew();
+  std::vector<float> data = v.voxels;
+  REQUIRE(nrrdWrap_va(n, data.data(), nrrdTypeFloat, 4, std::size_t(v.nx), std::size_t(v.ny), std::size_t(v.nz),
+                      std::size_t(v.nt)) == 0);
+  n->space = nrrdSpaceRightAnteriorSuperior;
+  n->spaceDim = 3;
+  const double dirs[3][3] = {{0.5, 0, 0}, {0, 0.6, 0}, {0, 0, 2.0}};
+  for (int a = 0; a < 3; ++a) {
+    for (int d = 0; d < 3; ++d) n->axis[a].spaceDirection[d] = dirs[a][d];
+    n->axis[a].center = nrrdCenterCell;
+    n->axis[a].kind = nrrdKindSpace;
+  }
+  n->axis[3].kind = nrrdKindTime;
+  n->axis[3].center = center;
+  n->axis[3].spacing = 0.5;
+  n->spaceOrigin[0] = 10, n->spaceOrigin[1] = -5, n->spaceOrigin[2] = 1;
+  REQUIRE(nrrdSave(path.c_str(), n, nullptr) == 0);
+  nrrdNix(n);
+}
+
+Volume ramp4(const std::array<int, 4>& size, int channels = 1) {
+  Volume v(size, channels, 0.0f);
+  for (std::size_t i = 0; i < v.voxels.size(); ++i) v.voxels[i] = static_cast<float>(0.001 * double(i) + 0.25);
+  return v;
+}
+
+}  // namespace
+
+TEST_CASE("read_volume / write_volume: a 4-axis series round-trips, time node-centred with spacing / s, space as in 3D") {
+  TempDir dir;
+  const Volume v = ramp4({4, 5, 3, 6});
+  write_series_nrrd(dir / "series.nrrd", v, nrrdCenterNode);
+  const VolumeFile in = read_volume(dir / "series.nrrd");
+  CHECK(in.volume.size() == std::array<int, 4>{4, 5, 3, 6});
+  CHECK(in.volume.channels == 1);
+  CHECK(in.volume.voxels == v.voxels);
+  CHECK(in.node_centred == std::array<bool, 4>{false, false, false, true});
+  // x2 in space, x4 in time: 6 steps -> 21.
+  const Volume big({8, 10, 6, 21}, 1, 0.5f);
+  write_volume(dir / "big.nrrd", big, in.type, in.encoding, in.header.get(), "test", in.node_centred);
+  Nrrd* n = nrrdNew();
+  REQUIRE(nrrdLoad(n, (dir / "big.nrrd").c_str(), nullptr) == 0);
+  REQUIRE(n->dim == 4);
+  CHECK(n->axis[3].size == 21);
+  CHECK(n->axis[3].kind == nrrdKindTime);
+  CHECK(n->axis[3].center == nrrdCenterNode);
+  CHECK(n->axis[3].spacing == doctest::Approx(0.125));  // 0.5 / 4: the same first and last instants
+  CHECK(n->axis[0].spaceDirection[0] == doctest::Approx(0.25));
+  CHECK(n->axis[2].spaceDirection[2] == doctest::Approx(1.0));
+  CHECK(n->axis[0].center == nrrdCenterCell);
+  CHECK(n->spaceOrigin[0] == doctest::Approx(10 - 0.25 * 0.5));  // cells: the first sample at index -0.25
+  CHECK(n->spaceOrigin[2] == doctest::Approx(1 - 0.25 * 2.0));
+  nrrdNuke(n);
+  const VolumeFile back = read_volume(dir / "big.nrrd");
+  CHECK(back.volume.size() == std::array<int, 4>{8, 10, 6, 21});
+  CHECK(back.node_centred[3]);
+}
+
+TEST_CASE("read_volume: a time axis said to be cells is cell-centred, unknown centring is node (instants)") {
+  TempDir dir;
+  const Volume v = ramp4({3, 3, 3, 4});
+  write_series_nrrd(dir / "cells.nrrd", v, nrrdCenterCell);
+  write_series_nrrd(dir / "unknown.nrrd", v, nrrdCenterUnknown);
+  CHECK_FALSE(read_volume(dir / "cells.nrrd").node_centred[3]);
+  CHECK(read_volume(dir / "unknown.nrrd").node_centred[3]);
+  // Written cell-centred, the time axis scales as the space does.
+  const VolumeFile in = read_volume(dir / "cells.nrrd");
+  write_volume(dir / "big.nrrd", Volume({3, 3, 3, 8}, 1, 0.0f), in.type, in.encoding, in.header.get(), {},
+               in.node_centred);
+  Nrrd* n = nrrdNew();
+  REQUIRE(nrrdLoad(n, (dir / "big.nrrd").c_str(), nullptr) == 0);
+  CHECK(n->axis[3].center == nrrdCenterCell);
+  CHECK(n->axis[3].spacing == doctest::Approx(0.25));
+  nrrdNuke(n);
+}
+
+TEST_CASE("read_volume / write_volume: series without a header, scalar and with channels (5 axes)") {
+  TempDir dir;
+  const Volume scalar = ramp4({5, 4, 3, 7});
+  write_volume(dir / "s.nrrd", scalar, VolumeSampleType::float32, VolumeEncoding::gzip);
+  const VolumeFile s = read_volume(dir / "s.nrrd");
+  CHECK(s.volume.size() == scalar.size());
+  CHECK(s.volume.voxels == scalar.voxels);
+  CHECK(s.node_centred[3]);
+  const Volume rgb = ramp4({3, 4, 2, 5}, 3);
+  write_volume(dir / "c.nhdr", rgb, VolumeSampleType::float32, VolumeEncoding::raw);
+  const VolumeFile c = read_volume(dir / "c.nhdr");
+  CHECK(c.volume.channels == 3);
+  CHECK(c.volume.size() == rgb.size());
+  CHECK(c.volume.voxels == rgb.voxels);
+  // The sizes limit counts every time step.
+  VolumeReadOptions small;
+  small.max_voxels = 5 * 4 * 3 * 7 - 1;
+  CHECK_THROWS_WITH_AS(read_volume(dir / "s.nrrd", small), doctest::Contains("5x4x3x7"), Error);
 }

@@ -83,7 +83,7 @@ TEST_CASE("read_volume: the header's voxel count is checked before the data file
                        Error);
   options.max_voxels = 120;
   int seen[4] = {0, 0, 0, 0};
-  options.check = [&](int nx, int ny, int nz, int channels) { seen[0] = nx, seen[1] = ny, seen[2] = nz, seen[3] = channels; };
+  options.check = [&](const std::array<int, 4>& size, int channels) { seen[0] = size[0], seen[1] = size[1], seen[2] = size[2], seen[3] = channels; };
   const VolumeFile file = read_volume(dir / "v.nhdr", options);
   CHECK(seen[0] == 4);
   CHECK(seen[1] == 5);
