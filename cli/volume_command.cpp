@@ -150,6 +150,11 @@ int run_volume_upscale(int argc, char** argv) {
   app.add_option("--tolerance", tolerance, "a flip must lower the local cost by more than this fraction")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
+  double presmooth = -1;
+  app.add_option("--presmooth", presmooth,
+                 "graduated optimization (ddt): flip first on the samples smoothed in space by a Gaussian of this "
+                 "sigma (voxels), then on the samples; default 1 for series, 0 (off) for 3D volumes")
+      ->check(CLI::Range(0.0, 16.0));
   app.add_option("--max-voxels", max_voxels, "refuse outputs with more voxels than this")
       ->check(whole_number(1))
       ->capture_default_str();
@@ -278,6 +283,7 @@ int run_volume_upscale(int argc, char** argv) {
     options.render = ddt::render_by_name(render);
     options.slopes = ddt::slope_limiter_by_name(slopes);
     options.node_centred = file.node_centred;
+    options.presmooth = ddt::presmooth_in_space(series, presmooth);
     if (verbose) options.log = log;
     ddt::VolumeUpscaleStats stats;
     const ddt::Volume result = ddt::upscale_volume(src, out, options, &stats);

@@ -304,6 +304,7 @@ py::array upscale_volume(const py::array& array, const py::object& scale, const 
   {
     py::gil_scoped_release release;
     const auto limit = ddt::limit_threads(call.threads);
+    call.options.presmooth = ddt::presmooth_in_space(series, call.presmooth);
     result = ddt::upscale_volume(v, out, call.options);
   }
   return array_from_volume(result, in.dtype);

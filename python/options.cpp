@@ -162,6 +162,7 @@ py::dict volume_defaults() {
   d["render"] = ddt::to_string(c.options.render);
   d["slopes"] = ddt::to_string(c.options.slopes);
   d["tolerance"] = c.options.relative_tolerance;
+  d["presmooth"] = py::none();
   d["time_scale"] = py::none();
   d["node_centred_time"] = true;
   d["max_voxels"] = c.max_voxels;
@@ -194,6 +195,8 @@ VolumeCall volume_call(const py::dict& kwargs) {
   if (k.get("slopes", name)) c.options.slopes = ddt::slope_limiter_by_name(name);
   k.get("tolerance", c.options.relative_tolerance);
   check_unit_range(c.options.relative_tolerance, "--tolerance");
+  if (k.get("presmooth", c.presmooth) && !(c.presmooth >= 0 && c.presmooth <= 16))
+    throw ddt::Error("--presmooth must be a sigma in [0, 16] voxels");
   k.get("max_voxels", c.max_voxels);
   if (c.max_voxels <= 0) throw ddt::Error("--max-voxels must be positive");
   k.get("verbose", c.verbose);

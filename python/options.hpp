@@ -37,6 +37,7 @@ struct ImageCall {
 struct VolumeCall {
   ddt::VolumeUpscaleOptions options;  // node_centred: time (axis t) by default
   std::optional<double> time_scale;   // series: the time axis' magnification (default: scale)
+  double presmooth = -1;              // the graduated optimization's sigma in space; < 0: presmooth_in_space's
   long long max_voxels = ddt::default_max_voxels;
   int threads = 0;
   bool verbose = false;

@@ -160,6 +160,14 @@ run_fail "keeps existing output" "$work/corrupt.nrrd" "$work/keep.nrrd" --scale 
 [ "$(cat "$work/keep.nrrd")" = "precious" ] && ok || bad "existing output was overwritten"
 cp "$work/s.nrrd" "$work/s_copy.nrrd"
 run_fail "input untouched" "$work/s.nrrd" "$work/s.nrrd" --scale 2
+# The graduated optimization: on by default for series, off for 3D volumes, --presmooth either way.
+run_ok "series presmooth default" "$work/ms.nrrd" "$work/ps.nrrd" --time-scale 2 -v
+grep -q "optimize on the smoothed samples" "$work/err.txt" && ok || bad "series: no graduated optimization by default"
+run_ok "series presmooth 0" "$work/ms.nrrd" "$work/ps.nrrd" --time-scale 2 --presmooth 0 -v
+grep -q "optimize on the smoothed samples" "$work/err.txt" && bad "--presmooth 0 still smoothed" || ok
+run_ok "3D presmooth 1" "$work/s.nrrd" "$work/ps3.nrrd" --scale 2 --presmooth 1 -v
+grep -q "optimize on the smoothed samples" "$work/err.txt" && ok || bad "3D --presmooth 1 did not smooth"
+run_fail "presmooth negative" "$work/s.nrrd" "$work/ps3.nrrd" --scale 2 --presmooth -1
 cmp -s "$work/s.nrrd" "$work/s_copy.nrrd" && ok || bad "input was modified"
 ls -a "$work" | grep -q '\.ddtscale-' && bad "temporary directory left behind" || ok
 

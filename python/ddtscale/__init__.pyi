@@ -65,6 +65,7 @@ def upscale_volume(
     render: Literal["cubic", "linear"] = ...,
     slopes: Literal["mc4", "mc", "central", "minmod"] = ...,
     tolerance: float = ...,
+    presmooth: Optional[float] = ...,
     time_scale: Optional[float] = ...,
     node_centred_time: bool = ...,
     max_voxels: int = ...,

@@ -15,11 +15,14 @@
 namespace ddt {
 namespace {
 
-// "ddt:sederberg" -> method ddt, cost sederberg; "ddt-linear" / "delaunay-linear": the linear render.
+// "ddt:sederberg" -> method ddt, cost sederberg; "ddt-linear" / "delaunay-linear": the linear render;
+// "ddt-unsmoothed": without the graduated optimization the command line runs on series.
 VolumeUpscaleOptions series_options_for(const std::string& spec) {
   VolumeUpscaleOptions o;
   const auto colon = spec.find(':');
   o.method = spec.substr(0, colon);
+  o.presmooth = presmooth_in_space(true);
+  if (o.method == "ddt-unsmoothed") o.method = "ddt", o.presmooth = {};
   if (colon != std::string::npos) o.cost = spec.substr(colon + 1);
   for (const Render render : {Render::linear, Render::cubic})
     for (const std::string mesh_method : {"ddt", "delaunay"})
@@ -57,7 +60,7 @@ std::vector<VolumeSeriesExperimentRow> run_volume_series_experiment(const Volume
     find_cost(o.cost);  // fail fast
     const auto& names = volume_series_upscale_methods();
     if (std::find(names.begin(), names.end(), o.method) == names.end())
-      throw Error("unknown series method '" + spec + "' (valid: quadrilinear, tricubic-linear, delaunay, ddt)");
+      throw Error("unknown series method '" + spec + "' (valid: quadrilinear, tricubic-linear, delaunay, ddt, ddt-unsmoothed)");
   }
   if (!options.picture_dir.empty() && !std::filesystem::is_directory(options.picture_dir))
     throw Error("picture directory '" + options.picture_dir + "' does not exist");
@@ -82,7 +85,7 @@ std::vector<VolumeSeriesExperimentRow> run_volume_series_experiment(const Volume
     row.rmse = volume_rmse(out, reference);
     row.psnr = 20 * std::log10(1.0 / row.rmse);
     row.psnr_made = 20 * std::log10(1.0 / made_steps_rmse(out, reference, options.time_scale));
-    row.flips = st.flips.total();
+    row.flips = st.flips.total() + st.presmooth_flips;  // the graduated optimization's first pass too
     row.simplices = st.tetrahedra;
     char line[400];
     std::snprintf(line, sizeof line, "%s %d^3 x %d steps, x%d space, x%d time, %s: RMSE %.5f, PSNR %.2f dB (made steps %.2f), flips %s, %.1f s",

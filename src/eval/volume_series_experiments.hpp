@@ -13,7 +13,9 @@
 //
 // Methods: volume_series_upscale_methods() names, "ddt:COST" picks the cost
 // (plain "ddt" is "ddt:variance"); "ddt-linear", "delaunay-linear" the
-// piecewise-linear render (the default is cubic).
+// piecewise-linear render (the default is cubic); the ddt methods run the
+// graduated optimization of the command line (presmooth_in_space(true)),
+// "ddt-unsmoothed" without it.
 //
 // Pictures (picture_dir set): <dir>/<field>-x<scale>-t<time_scale>.png, one
 // column per picture_methods entry after the reference; rows: the middle x-y
@@ -38,7 +40,8 @@ struct VolumeSeriesExperimentOptions {
   int time_scale = 4;   // temporal magnification (node-centred)
   int input_ss = 4;
   int reference_ss = 2;
-  std::vector<std::string> methods = {"quadrilinear", "tricubic-linear", "delaunay", "ddt-linear", "ddt"};
+  std::vector<std::string> methods = {"quadrilinear", "tricubic-linear", "delaunay", "ddt-linear", "ddt-unsmoothed",
+                                      "ddt"};
   std::vector<std::string> picture_methods = {"quadrilinear", "tricubic-linear", "ddt"};
   std::string picture_dir;  // empty: no pictures
   std::function<void(const std::string&)> log;

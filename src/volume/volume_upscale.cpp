@@ -200,6 +200,11 @@ int volume_region_slices(const std::array<int, 4>& size) {
 
 int volume_region_slices(int nx, int ny, int nz) { return volume_region_slices({nx, ny, nz, 1}); }
 
+std::array<double, 4> presmooth_in_space(bool series, double sigma) {
+  if (sigma < 0) sigma = series ? 1.0 : 0.0;
+  return {sigma, sigma, sigma, 0.0};
+}
+
 const std::vector<std::string>& volume_upscale_methods() {
   static const std::vector<std::string> names = {"ddt", "delaunay", "trilinear", "tricubic"};
   return names;

@@ -94,6 +94,13 @@ struct VolumeUpscaleStats : StageSeconds, OptimizerSummary<core::FlipCounts> {
   long long presmooth_flips = 0;  // of the graduated optimization's first pass
 };
 
+// The graduated optimization the command line and the Python module use
+// when no --presmooth is given: sigma 1 sample in space for series (on the
+// moving sphere: +0.4 dB and a cleaner isosurface, docs/volumes.md), or
+// `sigma` (>= 0) in space; none for 3D volumes unless asked for (the
+// sphere and the hydrogen orbital lose 0.06 and 0.16 dB with it).
+std::array<double, 4> presmooth_in_space(bool series, double sigma = -1);
+
 // Outputs larger than this many voxels are refused by the command line and
 // the Python module unless raised (--max-voxels, max_voxels=).
 inline constexpr long long default_max_voxels = 1LL << 29;
