@@ -16,6 +16,7 @@
 #include "io/volume_io.hpp"
 #include "eval/volume_pictures.hpp"
 #include "eval/volume_series_experiments.hpp"
+#include "volume/time_tiles.hpp"
 #include "volume/volume_upscale.hpp"
 #include "util/thread_limit.hpp"
 #include "util/timing.hpp"
@@ -88,6 +89,8 @@ double volume_job_bytes(const std::string& method, std::size_t compares, double 
          (mesh ? mesh_bytes * in_voxels : 0.0);
 }
 
+bool mesh_method_named(const std::string& method) { return method == "ddt" || method == "delaunay"; }
+
 int run_volume_upscale(int argc, char** argv) {
   std::string input, output, size_spec, method = "ddt", cost = "variance", picture, type = "same",
                                         encoding = "same", render = "cubic", slopes = "mc4";
@@ -149,6 +152,15 @@ int run_volume_upscale(int argc, char** argv) {
   app.add_option("--encoding", encoding, "output encoding: same, raw, gzip, bzip2, ascii, hex")->capture_default_str();
   app.add_option("--tolerance", tolerance, "a flip must lower the local cost by more than this fraction")
       ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  ddt::TimeTiling time_tiling;
+  app.add_option("--time-tile", time_tiling.tile_steps,
+                 "series: reconstruct N input steps at a time (plus --time-margin on either side), which bounds the "
+                 "mesh's memory; needs a whole --time-scale and node-centred time (default: the whole series)")
+      ->check(whole_number(1));
+  app.add_option("--time-margin", time_tiling.margin_steps,
+                 "series with --time-tile: extra input steps reconstructed on either side of a tile")
+      ->check(whole_number(0, 1000))
       ->capture_default_str();
   double presmooth = -1;
   app.add_option("--presmooth", presmooth,
@@ -285,8 +297,34 @@ int run_volume_upscale(int argc, char** argv) {
     options.node_centred = file.node_centred;
     options.presmooth = ddt::presmooth_in_space(series, presmooth);
     if (verbose) options.log = log;
-    ddt::VolumeUpscaleStats stats;
-    const ddt::Volume result = ddt::upscale_volume(src, out, options, &stats);
+    ddt::Volume result;
+    if (time_tiling.tile_steps > 0) {
+      // Tiles over time: the output is held whole (the NRRD is written at
+      // once), the mesh a tile at a time.
+      if (!series || !mesh_method_named(method)) throw ddt::Error("--time-tile applies to ddt and delaunay on volume series");
+      const double steps_scale = double(out[3] - 1) / (src.nt - 1);
+      if (!file.node_centred[3] || steps_scale != std::floor(steps_scale))
+        throw ddt::Error("--time-tile needs node-centred time and a whole time scale ((n - 1) * T + 1 steps)");
+      result = ddt::Volume(out[0], out[1], out[2], src.channels, 0.0f);
+      result.nt = out[3];
+      result.voxels.resize(result.voxels.size() * out[3]);
+      const std::size_t in_step = src.voxels.size() / src.nt, out_step = result.voxels.size() / out[3];
+      ddt::TimeTilingStats ts;
+      ddt::upscale_in_time_tiles(
+          {src.nx, src.ny, src.nz}, {out[0], out[1], out[2]}, src.channels, src.nt, static_cast<int>(steps_scale),
+          options, time_tiling,
+          [&](int k, float* samples) {
+            std::copy_n(src.voxels.begin() + static_cast<std::ptrdiff_t>(k * in_step), in_step, samples);
+          },
+          [&](const float* samples, int k) {
+            std::copy_n(samples, out_step, result.voxels.begin() + static_cast<std::ptrdiff_t>(k * out_step));
+          },
+          &ts);
+      log("time tiles: " + std::to_string(ts.tiles) + " of " + std::to_string(time_tiling.tile_steps) +
+          " steps (margin " + std::to_string(time_tiling.margin_steps) + "), " + std::to_string(ts.flips) + " flips");
+    } else {
+      result = ddt::upscale_volume(src, out, options);
+    }
     char comment[240];
     const bool mesh_method = method == "ddt" || method == "delaunay";
     std::snprintf(comment, sizeof comment, "ddtscale: %s enlarged to %s by %s%s%s%s%s%s", size_text(src).c_str(),

@@ -167,6 +167,13 @@ run_ok "series presmooth 0" "$work/ms.nrrd" "$work/ps.nrrd" --time-scale 2 --pre
 grep -q "optimize on the smoothed samples" "$work/err.txt" && bad "--presmooth 0 still smoothed" || ok
 run_ok "3D presmooth 1" "$work/s.nrrd" "$work/ps3.nrrd" --scale 2 --presmooth 1 -v
 grep -q "optimize on the smoothed samples" "$work/err.txt" && ok || bad "3D --presmooth 1 did not smooth"
+# Tiles over time: margins that reach over the whole series give the untiled bits.
+run_ok "series whole" "$work/ms.nrrd" "$work/tw.nrrd" --time-scale 2 -q
+run_ok "series tiles" "$work/ms.nrrd" "$work/tt.nrrd" --time-scale 2 --time-tile 1 --time-margin 8 -v
+grep -q "time tiles: 3 of 1 steps" "$work/err.txt" && ok || bad "--time-tile 1 on 4 steps: $(grep 'time tiles' "$work/err.txt")"
+cmp -s "$work/tw.nrrd" "$work/tt.nrrd" && ok || bad "tiles with margins over the whole series differ from the whole"
+run_fail "time tile on 3D" "$work/s.nrrd" "$work/t3.nrrd" --scale 2 --time-tile 2
+run_fail "time tile, fractional time scale" "$work/ms.nrrd" "$work/tf.nrrd" --time-scale 2.5 --time-tile 2
 run_fail "presmooth negative" "$work/s.nrrd" "$work/ps3.nrrd" --scale 2 --presmooth -1
 cmp -s "$work/s.nrrd" "$work/s_copy.nrrd" && ok || bad "input was modified"
 ls -a "$work" | grep -q '\.ddtscale-' && bad "temporary directory left behind" || ok

@@ -13,18 +13,17 @@
 // frames between sample the field at t = k + j / s. Space follows the
 // pixel convention (image.hpp).
 //
-// Memory is bounded by tiling over time: the frames are reconstructed in
-// tiles of `tile_frames` input frames plus `margin_frames` on either side
-// (read once, kept while the next tile needs them); each tile's output
-// frames are handed to the sink in order and freed. Tiles change the
-// result only near their joins and only where a flip sequence reaches
-// through the margin (docs/sequences.md measures how much).
+// Memory is bounded by tiling over time (time_tiles.hpp: a sequence is a
+// series of one z-slice): the frames are reconstructed in tiles of
+// `tile_frames` input frames plus `margin_frames` on either side; each
+// tile's output frames are handed to the sink in order and freed.
 //
 // Errors: throws ddt::Error (bad sizes or scales, unknown method or cost,
 // too many channels, a frame source that fails).
 
 #include "util/image.hpp"
 #include "util/progress.hpp"
+#include "volume/time_tiles.hpp"
 #include "volume/volume_upscale.hpp"
 
 #include <functional>
@@ -52,12 +51,7 @@ struct SequenceUpscaleOptions {
   Progress* progress = nullptr;  // "enlarge" stage, in output frames
 };
 
-struct SequenceUpscaleStats {
-  int tiles = 0;
-  long long flips = 0;
-  long long tetrahedra = 0;  // of the largest tile
-  double seconds_read = 0, seconds_triangulate = 0, seconds_optimize = 0, seconds_render = 0, seconds_write = 0;
-};
+using SequenceUpscaleStats = TimeTilingStats;
 
 // The default tile: about 2^22 input samples (mesh and output of a few GB
 // at most) including its margins, at least one frame beyond them.
