@@ -305,9 +305,7 @@ int run_volume_upscale(int argc, char** argv) {
       const double steps_scale = double(out[3] - 1) / (src.nt - 1);
       if (!file.node_centred[3] || steps_scale != std::floor(steps_scale))
         throw ddt::Error("--time-tile needs node-centred time and a whole time scale ((n - 1) * T + 1 steps)");
-      result = ddt::Volume(out[0], out[1], out[2], src.channels, 0.0f);
-      result.nt = out[3];
-      result.voxels.resize(result.voxels.size() * out[3]);
+      result = ddt::Volume(out, src.channels, 0.0f);
       const std::size_t in_step = src.voxels.size() / src.nt, out_step = result.voxels.size() / out[3];
       ddt::TimeTilingStats ts;
       ddt::upscale_in_time_tiles(

@@ -55,9 +55,7 @@ void upscale_in_time_tiles(const std::array<int, 3>& in, const std::array<int, 3
     local.seconds_read += seconds_since(t0);
 
     const int count = hi - lo + 1;
-    Volume part(in[0], in[1], in[2], channels, 0.0f);
-    part.nt = count;
-    part.voxels.resize(in_step * count);
+    Volume part({in[0], in[1], in[2], count}, channels, 0.0f);
     for (int k = 0; k < count; ++k)
       std::copy(cache[std::size_t(lo - cache_first + k)].begin(), cache[std::size_t(lo - cache_first + k)].end(),
                 part.voxels.begin() + static_cast<std::ptrdiff_t>(k * in_step));
