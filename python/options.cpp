@@ -56,6 +56,18 @@ void check_unit_range(double value, const char* option) {
   if (!(value >= 0.0 && value <= 1.0)) throw ddt::Error(std::string(option) + " must be a number in [0, 1]");
 }
 
+// What volumes and sequences share: the cost, the render, the slopes and
+// the tolerance of the tetrahedral reconstruction.
+void get_mesh_options(const Keywords& k, ddt::VolumeUpscaleOptions& o) {
+  k.get("cost", o.cost);
+  ddt::find_cost(o.cost);
+  std::string name;
+  if (k.get("render", name)) o.render = ddt::render_by_name(name);
+  if (k.get("slopes", name)) o.slopes = ddt::slope_limiter_by_name(name);
+  k.get("tolerance", o.relative_tolerance);
+  check_unit_range(o.relative_tolerance, "--tolerance");
+}
+
 void check_threads(int threads) {
   if (threads < 0 || threads > 4096) throw ddt::Error("--threads must be in [0, 4096]");
 }
@@ -188,13 +200,7 @@ VolumeCall volume_call(const py::dict& kwargs) {
     if (!(time_scale > 0) || !std::isfinite(time_scale)) throw ddt::Error("--time-scale must be a positive number");
     c.time_scale = time_scale;
   }
-  k.get("cost", c.options.cost);
-  ddt::find_cost(c.options.cost);
-  std::string name;
-  if (k.get("render", name)) c.options.render = ddt::render_by_name(name);
-  if (k.get("slopes", name)) c.options.slopes = ddt::slope_limiter_by_name(name);
-  k.get("tolerance", c.options.relative_tolerance);
-  check_unit_range(c.options.relative_tolerance, "--tolerance");
+  get_mesh_options(k, c.options);
   if (k.get("presmooth", c.presmooth) && !(c.presmooth >= 0 && c.presmooth <= 16))
     throw ddt::Error("--presmooth must be a sigma in [0, 16] voxels");
   k.get("max_voxels", c.max_voxels);
@@ -229,17 +235,11 @@ SequenceCall sequence_call(const py::dict& kwargs) {
   k.get("method", o.method);
   if (o.method != "ddt" && o.method != "delaunay")
     throw ddt::Error("--method must be one of ddt, delaunay, not '" + o.method + "'");
-  k.get("cost", o.cost);
-  ddt::find_cost(o.cost);
-  std::string name;
-  if (k.get("render", name)) o.render = ddt::render_by_name(name);
-  if (k.get("slopes", name)) o.slopes = ddt::slope_limiter_by_name(name);
+  get_mesh_options(k, o);
   double sigma = o.presmooth[0];
   k.get("presmooth", sigma);
   if (!(sigma >= 0 && sigma <= 16)) throw ddt::Error("--presmooth must be a sigma in [0, 16] pixels");
   o.presmooth = {sigma, sigma, 0.0};
-  k.get("tolerance", o.relative_tolerance);
-  check_unit_range(o.relative_tolerance, "--tolerance");
   k.get("time_tile", c.options.tile_frames);
   if (c.options.tile_frames < 0) throw ddt::Error("--time-tile must be at least 1 (0: automatic)");
   k.get("time_margin", c.options.margin_frames);

@@ -77,12 +77,7 @@ std::vector<VolumeExperimentRow> run_volume_experiments(const VolumeExperimentOp
       results[spec] = std::move(out);
     }
     if (!options.picture_dir.empty()) {
-      std::vector<const Volume*> columns = {&reference};
-      for (const std::string& spec : options.picture_methods) {
-        auto it = results.find(spec);
-        if (it == results.end()) throw Error("picture method '" + spec + "' is not among the methods run");
-        columns.push_back(&it->second);
-      }
+      const std::vector<const Volume*> columns = picture_columns(reference, results, options.picture_methods);
       const Image picture =
           compare_views(columns, {VolumeView::slice_xy, VolumeView::slice_xz, VolumeView::mip_z}, 0.0, 1.0);
       const std::string path =

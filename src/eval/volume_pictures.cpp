@@ -224,4 +224,15 @@ Image compare_series_views(const std::vector<const Volume*>& series, int step, c
   return out;
 }
 
+std::vector<const Volume*> picture_columns(const Volume& reference, const std::map<std::string, Volume>& results,
+                                           const std::vector<std::string>& methods) {
+  std::vector<const Volume*> columns = {&reference};
+  for (const std::string& spec : methods) {
+    const auto it = results.find(spec);
+    if (it == results.end()) throw Error("picture method '" + spec + "' is not among the methods run");
+    columns.push_back(&it->second);
+  }
+  return columns;
+}
+
 }  // namespace ddt

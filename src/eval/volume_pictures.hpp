@@ -11,6 +11,7 @@
 #include "util/image.hpp"
 #include "volume/volume.hpp"
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -63,5 +64,11 @@ Image compare_series_views(const std::vector<const Volume*>& series, int step, c
 
 // The minimum and maximum sample (for the grey mapping).
 void value_range(const Volume& v, double& lo, double& hi);
+
+// The columns of an experiment's pictures: `reference`, then the volume of
+// each picture method in `results`; throws ddt::Error naming a method that
+// was not run.
+std::vector<const Volume*> picture_columns(const Volume& reference, const std::map<std::string, Volume>& results,
+                                           const std::vector<std::string>& methods);
 
 }  // namespace ddt

@@ -96,12 +96,7 @@ std::vector<VolumeSeriesExperimentRow> run_volume_series_experiment(const Volume
     results[spec] = std::move(out);
   }
   if (!options.picture_dir.empty()) {
-    std::vector<const Volume*> columns = {&reference};
-    for (const std::string& spec : options.picture_methods) {
-      auto it = results.find(spec);
-      if (it == results.end()) throw Error("picture method '" + spec + "' is not among the methods run");
-      columns.push_back(&it->second);
-    }
+    const std::vector<const Volume*> columns = picture_columns(reference, results, options.picture_methods);
     const std::string stem = options.field + "-x" + std::to_string(options.scale) + "-t" +
                              std::to_string(options.time_scale);
     const int step = steps_out / 2;
