@@ -13,6 +13,7 @@
 #include "util/size_limits.hpp"
 #include "eval/volume_experiments.hpp"
 #include "eval/volume_fields.hpp"
+#include "io/safe_file.hpp"
 #include "io/volume_io.hpp"
 #include "eval/volume_pictures.hpp"
 #include "eval/volume_series_experiments.hpp"
@@ -401,11 +402,7 @@ int run_volume_series_eval(const ddt::VolumeSeriesExperimentOptions& options,
   const auto rows = ddt::run_volume_series_experiment(o);
   const std::string text = ddt::volume_series_experiment_table(rows);
   std::cout << text;
-  if (!table.empty()) {
-    std::ofstream out(table);
-    out << text;
-    if (!out) throw ddt::Error("cannot write '" + table + "'");
-  }
+  if (!table.empty()) ddt::write_file_atomically(table, text);
   return 0;
 }
 
@@ -502,11 +499,7 @@ int run_volume_eval(int argc, char** argv) {
     const auto rows = ddt::run_volume_experiments(options);
     const std::string text = ddt::volume_experiment_table(rows);
     std::cout << text;
-    if (!table.empty()) {
-      std::ofstream out(table);
-      out << text;
-      if (!out) throw ddt::Error("cannot write '" + table + "'");
-    }
+    if (!table.empty()) ddt::write_file_atomically(table, text);
     return 0;
   } catch (const std::exception& e) {
     return fail("ddtscale volume-eval: ", e);
