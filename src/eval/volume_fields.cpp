@@ -54,7 +54,7 @@ Volume sample_series_field(const VolumeSeriesField& field, const std::array<int,
   for (int n : size)
     if (n < 1) throw Error("sample_series_field: sizes must be >= 1");
   if (ss < 1) throw Error("sample_series_field: supersampling must be >= 1");
-  const auto [nx, ny, nz, nt] = size;
+  const int nx = size[0], ny = size[1], nz = size[2], nt = size[3];  // not a structured binding: clang 14 cannot capture those
   Volume v(size, 1, 0.0f);
   const double inv = 1.0 / (double(ss) * ss * ss);
   tbb::parallel_for(0, nz * nt, [&](int kl) {
