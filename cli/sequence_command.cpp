@@ -188,9 +188,13 @@ static int run_sequence_upscale(int argc, char** argv) {
                  "included); bounds the memory")
       ->check(whole_number(1));
   app.add_option("--time-margin", options.margin_frames,
-                 "extra input frames reconstructed on either side of a tile, so its joins match")
+                 "extra input frames reconstructed on either side of a tile, so its joins match (with "
+                 "--exact-tiles: the least)")
       ->check(whole_number(0, 1000))
       ->capture_default_str();
+  app.add_flag("--exact-tiles", options.exact_tiles,
+               "make the tiles' result the untiled one bit for bit: margins of whole slabs of the optimizer's "
+               "schedule, widened as its phases need (several times the work on large frames)");
   app.add_option("--max-pixels", max_pixels, "refuse outputs with more pixels in all (frames x width x height)")
       ->check(whole_number(1))
       ->capture_default_str();

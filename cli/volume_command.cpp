@@ -17,7 +17,7 @@
 #include "io/volume_io.hpp"
 #include "eval/volume_pictures.hpp"
 #include "eval/volume_series_experiments.hpp"
-#include "volume/time_tiles.hpp"
+#include "volume/volume_tiles.hpp"
 #include "volume/volume_upscale.hpp"
 #include "util/thread_limit.hpp"
 #include "util/timing.hpp"
@@ -153,15 +153,21 @@ int run_volume_upscale(int argc, char** argv) {
   app.add_option("--tolerance", tolerance, "a flip must lower the local cost by more than this fraction")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
-  ddt::TimeTiling time_tiling;
-  app.add_option("--time-tile", time_tiling.tile_steps,
-                 "series: reconstruct N input steps at a time (plus --time-margin on either side), which bounds the "
-                 "mesh's memory; needs a whole --time-scale and node-centred time (default: the whole series)")
+  ddt::VolumeTiling tiling;
+  tiling.margin_slices = 0;
+  app.add_option("--tile-slices,--time-tile", tiling.tile_slices,
+                 "reconstruct N input slices of the last axis at a time (z of a 3D volume, time steps of a series), "
+                 "plus margins on either side, which bounds the mesh's memory; the result is the untiled one bit for "
+                 "bit (the margins are widened as the optimizer needs) unless --loose-tiles; needs a whole scale "
+                 "along that axis (default: the whole volume)")
       ->check(whole_number(1));
-  app.add_option("--time-margin", time_tiling.margin_steps,
-                 "series with --time-tile: extra input steps reconstructed on either side of a tile")
-      ->check(whole_number(0, 1000))
-      ->capture_default_str();
+  app.add_option("--tile-margin,--time-margin", tiling.margin_slices,
+                 "with --tile-slices: slices reconstructed on either side of a tile (the least; with --loose-tiles, "
+                 "exactly); default: one slab of the optimizer's schedule")
+      ->check(whole_number(0, 100000));
+  bool loose_tiles = false;
+  app.add_flag("--loose-tiles", loose_tiles,
+               "with --tile-slices: keep the margin as given (cheaper; the result then differs near the joins)");
   double presmooth = -1;
   app.add_option("--presmooth", presmooth,
                  "graduated optimization (ddt): flip first on the samples smoothed in space by a Gaussian of this "
@@ -298,28 +304,32 @@ int run_volume_upscale(int argc, char** argv) {
     options.presmooth = ddt::presmooth_in_space(series, presmooth);
     if (verbose) options.log = log;
     ddt::Volume result;
-    if (time_tiling.tile_steps > 0) {
-      // Tiles over time: the output is held whole (the NRRD is written at
-      // once), the mesh a tile at a time.
-      if (!series || !mesh_method_named(method)) throw ddt::Error("--time-tile applies to ddt and delaunay on volume series");
-      const double steps_scale = double(out[3] - 1) / (src.nt - 1);
-      if (!file.node_centred[3] || steps_scale != std::floor(steps_scale))
-        throw ddt::Error("--time-tile needs node-centred time and a whole time scale ((n - 1) * T + 1 steps)");
+    if (tiling.tile_slices > 0) {
+      // Tiles along the last axis: the output is held whole (the NRRD is
+      // written at once), the mesh a tile at a time.
+      if (!mesh_method_named(method)) throw ddt::Error("--tile-slices applies to the ddt and delaunay methods");
+      tiling.exact = !loose_tiles;
+      if (loose_tiles && tiling.margin_slices == 0) tiling.margin_slices = 4;
       result = ddt::Volume(out, src.channels, 0.0f);
-      const std::size_t in_step = src.voxels.size() / src.nt, out_step = result.voxels.size() / out[3];
-      ddt::TimeTilingStats ts;
-      ddt::upscale_in_time_tiles(
-          {src.nx, src.ny, src.nz}, {out[0], out[1], out[2]}, src.channels, src.nt, static_cast<int>(steps_scale),
-          options, time_tiling,
+      const int axis = series ? 3 : 2;
+      const std::size_t in_slice = src.voxels.size() / src.size()[axis];
+      const std::size_t out_slice = result.voxels.size() / out[axis];
+      ddt::VolumeTilingStats ts;
+      ddt::upscale_in_tiles(
+          src.size(), out, src.channels, options, tiling,
           [&](int k, float* samples) {
-            std::copy_n(src.voxels.begin() + static_cast<std::ptrdiff_t>(k * in_step), in_step, samples);
+            std::copy_n(src.voxels.begin() + static_cast<std::ptrdiff_t>(k * in_slice), in_slice, samples);
           },
           [&](const float* samples, int k) {
-            std::copy_n(samples, out_step, result.voxels.begin() + static_cast<std::ptrdiff_t>(k * out_step));
+            std::copy_n(samples, out_slice, result.voxels.begin() + static_cast<std::ptrdiff_t>(k * out_slice));
           },
           &ts);
-      log("time tiles: " + std::to_string(ts.tiles) + " of " + std::to_string(time_tiling.tile_steps) +
-          " steps (margin " + std::to_string(time_tiling.margin_steps) + "), " + std::to_string(ts.flips) + " flips");
+      log(std::string("tiles: ") + std::to_string(ts.tiles) + " of " + std::to_string(tiling.tile_slices) +
+          (series ? " steps" : " slices") + ", margin " + std::to_string(ts.margin_slices) +
+          (tiling.exact ? " (exact; slabs of " + std::to_string(ts.region_slices) + ", " + std::to_string(ts.reruns) +
+                              " tiles run again with a wider margin)"
+                        : " (loose)") +
+          ", " + std::to_string(ts.flips) + " flips");
     } else {
       result = ddt::upscale_volume(src, out, options);
     }

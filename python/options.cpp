@@ -222,6 +222,7 @@ py::dict sequence_defaults() {
   d["tolerance"] = c.options.volume.relative_tolerance;
   d["time_tile"] = c.options.tile_frames;
   d["time_margin"] = c.options.margin_frames;
+  d["exact_tiles"] = c.options.exact_tiles;
   d["max_pixels"] = c.max_pixels;
   d["verbose"] = c.verbose;
   d["threads"] = c.threads;
@@ -245,6 +246,7 @@ SequenceCall sequence_call(const py::dict& kwargs) {
   k.get("time_margin", c.options.margin_frames);
   if (c.options.margin_frames < 0 || c.options.margin_frames > 1000)
     throw ddt::Error("--time-margin must be between 0 and 1000 frames");
+  k.get("exact_tiles", c.options.exact_tiles);
   k.get("max_pixels", c.max_pixels);
   if (c.max_pixels <= 0) throw ddt::Error("--max-pixels must be positive");
   k.get("verbose", c.verbose);

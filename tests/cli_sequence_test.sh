@@ -51,6 +51,12 @@ grep -q "done: 1 tiles" "$work/err.txt" && ok || bad "verbose summary missing: $
 # Tiles over time with --time-tile and --time-margin.
 run_ok "tiles" "$work/in/in_%04d.png" "$work/out/t_%04d.png" --time-scale 4 --time-tile 1 --time-margin 1 -v
 grep -q "done: 2 tiles" "$work/err.txt" && ok || bad "--time-tile 1 did not make 2 tiles"
+# Exact tiles of a sequence this small: one slab of the schedule, so one tile, the untiled frames.
+run_ok "exact tiles" "$work/in/in_%04d.png" "$work/out/e_%04d.png" --time-scale 4 --time-tile 1 --exact-tiles -v
+grep -q "done: 1 tiles" "$work/err.txt" && ok || bad "--exact-tiles on one slab: $(grep 'done:' "$work/err.txt")"
+if command -v idiff >/dev/null; then
+  idiff -fail 0 "$work/out/o_0006.png" "$work/out/e_0006.png" >/dev/null && ok || bad "exact tiles changed frame 6"
+fi
 run_ok "help" "$work/in/in_%04d.png" x_%04d.png --help
 grep -q -- "--time-scale" "$work/out.txt" && ok || bad "--help does not describe --time-scale"
 

@@ -170,9 +170,20 @@ grep -q "optimize on the smoothed samples" "$work/err.txt" && ok || bad "3D --pr
 # Tiles over time: margins that reach over the whole series give the untiled bits.
 run_ok "series whole" "$work/ms.nrrd" "$work/tw.nrrd" --time-scale 2 -q
 run_ok "series tiles" "$work/ms.nrrd" "$work/tt.nrrd" --time-scale 2 --time-tile 1 --time-margin 8 -v
-grep -q "time tiles: 3 of 1 steps" "$work/err.txt" && ok || bad "--time-tile 1 on 4 steps: $(grep 'time tiles' "$work/err.txt")"
+grep -q "tiles: 1 of 1 steps" "$work/err.txt" && ok || bad "--time-tile 1 on 4 steps, one slab: $(grep 'tiles:' "$work/err.txt")"
+cmp -s "$work/tw.nrrd" "$work/tt.nrrd" && ok || bad "exact tiles of a series of one slab differ from the whole"
+run_ok "series loose tiles" "$work/ms.nrrd" "$work/tt.nrrd" --time-scale 2 --time-tile 1 --time-margin 8 --loose-tiles -v
+grep -q "tiles: 3 of 1 steps, margin 8 (loose)" "$work/err.txt" && ok || bad "--loose-tiles on 4 steps: $(grep 'tiles:' "$work/err.txt")"
 cmp -s "$work/tw.nrrd" "$work/tt.nrrd" && ok || bad "tiles with margins over the whole series differ from the whole"
-run_fail "time tile on 3D" "$work/s.nrrd" "$work/t3.nrrd" --scale 2 --time-tile 2
+# Tiles along z of a 3D volume (exact by default: the untiled bits).
+run_ok "z tiles" "$work/h48.nrrd" "$work/h48_t.nrrd" --scale 2 --tile-slices 16 -v
+grep -q "tiles: 3 of 16 slices, margin [0-9]* (exact; slabs of 19" "$work/err.txt" && ok ||
+  bad "--tile-slices 16 on 48 slices: $(grep 'tiles:' "$work/err.txt")"
+cmp -s "$work/h48_1.nrrd" "$work/h48_t.nrrd" && ok || bad "exact z tiles differ from the untiled volume"
+run_ok "loose z tiles" "$work/h48.nrrd" "$work/h48_l.nrrd" --scale 2 --tile-slices 16 --loose-tiles --tile-margin 2 -v
+grep -q "margin 2 (loose)" "$work/err.txt" && ok || bad "--loose-tiles: $(grep 'tiles:' "$work/err.txt")"
+run_fail "z tiles, fractional scale" "$work/s.nrrd" "$work/t3.nrrd" --scale 2.5 --tile-slices 2
+run_fail "tiles of a classic method" "$work/s.nrrd" "$work/t3.nrrd" --scale 2 --tile-slices 2 --method trilinear
 run_fail "time tile, fractional time scale" "$work/ms.nrrd" "$work/tf.nrrd" --time-scale 2.5 --time-tile 2
 run_fail "presmooth negative" "$work/s.nrrd" "$work/ps3.nrrd" --scale 2 --presmooth -1
 cmp -s "$work/s.nrrd" "$work/s_copy.nrrd" && ok || bad "input was modified"

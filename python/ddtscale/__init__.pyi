@@ -87,6 +87,7 @@ def upscale_sequence(
     tolerance: float = ...,
     time_tile: int = ...,
     time_margin: int = ...,
+    exact_tiles: bool = ...,
     max_pixels: int = ...,
     verbose: bool = ...,
     threads: int = ...,

@@ -7,16 +7,21 @@
 
 namespace ddt {
 
-int sequence_output_frames(int frames, int time_scale) { return time_tiled_output_steps(frames, time_scale); }
+int sequence_output_frames(int frames, int time_scale) { return tiled_output_slices(frames, time_scale, true); }
 
 int sequence_tile_frames(int width, int height, int margin_frames) {
-  return time_tile_steps(static_cast<long long>(width) * height, margin_frames);
+  return default_tile_slices(static_cast<long long>(width) * height, margin_frames);
 }
 
 void upscale_sequence(int frames, int width, int height, int channels, const std::function<Image(int)>& read,
                       int out_width, int out_height, int time_scale, const SequenceUpscaleOptions& options,
                       const std::function<void(Image, int)>& write, SequenceUpscaleStats* stats) {
-  const TimeTiling tiling{options.tile_frames, options.margin_frames, options.progress};
+  if (frames < 1) throw Error("the sequence has no frames");
+  if (time_scale < 1) throw Error("the time scale must be a whole number of at least 1");
+  const VolumeTiling tiling{options.tile_frames, options.margin_frames, options.exact_tiles, options.progress};
+  VolumeUpscaleOptions volume = options.volume;
+  volume.node_centred[3] = true;  // frames are instants
+  volume.presmooth[3] = 0;
   auto read_step = [&](int k, float* samples) {
     const Image f = read(k);
     if (f.width != width || f.height != height || f.channels != channels)
@@ -30,8 +35,8 @@ void upscale_sequence(int frames, int width, int height, int channels, const std
     std::copy(samples, samples + frame.pixels.size(), frame.pixels.begin());
     write(std::move(frame), k);
   };
-  upscale_in_time_tiles({width, height, 1}, {out_width, out_height, 1}, channels, frames, time_scale, options.volume,
-                        tiling, read_step, write_step, stats);
+  upscale_in_tiles({width, height, 1, frames}, {out_width, out_height, 1, sequence_output_frames(frames, time_scale)},
+                   channels, volume, tiling, read_step, write_step, stats);
 }
 
 }  // namespace ddt

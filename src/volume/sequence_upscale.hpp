@@ -13,17 +13,22 @@
 // frames between sample the field at t = k + j / s. Space follows the
 // pixel convention (image.hpp).
 //
-// Memory is bounded by tiling over time (time_tiles.hpp: a sequence is a
+// Memory is bounded by tiling over time (volume_tiles.hpp: a sequence is a
 // series of one z-slice): the frames are reconstructed in tiles of
 // `tile_frames` input frames plus `margin_frames` on either side; each
-// tile's output frames are handed to the sink in order and freed.
+// tile's output frames are handed to the sink in order and freed. The
+// joins differ a little from the untiled result (docs/sequences.md) unless
+// `exact_tiles`: then the margins are whole slabs of the optimizer's
+// schedule, widened as its phases need (volume_tiles.hpp), which on large
+// frames costs several times the work. Off by default, since sequences
+// tile by default: a tile holds about 2^22 input pixels.
 //
 // Errors: throws ddt::Error (bad sizes or scales, unknown method or cost,
 // too many channels, a frame source that fails).
 
 #include "util/image.hpp"
 #include "util/progress.hpp"
-#include "volume/time_tiles.hpp"
+#include "volume/volume_tiles.hpp"
 #include "volume/volume_upscale.hpp"
 
 #include <functional>
@@ -47,11 +52,12 @@ struct SequenceUpscaleOptions {
   // method, cost, render, slopes, tolerance, log (node_centred set here)
   VolumeUpscaleOptions volume = sequence_volume_defaults();
   int tile_frames = 0;          // input frames per tile; 0: sequence_tile_frames()
-  int margin_frames = 4;        // extra input frames reconstructed on either side of a tile
+  int margin_frames = 4;        // extra input frames reconstructed on either side of a tile (at least)
+  bool exact_tiles = false;     // widen the margins until the tiles equal the untiled result
   Progress* progress = nullptr;  // "enlarge" stage, in output frames
 };
 
-using SequenceUpscaleStats = TimeTilingStats;
+using SequenceUpscaleStats = VolumeTilingStats;
 
 // The default tile: about 2^22 input samples (mesh and output of a few GB
 // at most) including its margins, at least one frame beyond them.

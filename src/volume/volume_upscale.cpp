@@ -111,6 +111,7 @@ std::vector<float> mesh_reconstruction(const GridProblem<D>& grid, const VolumeU
                         std::vector<double>(grid.presmooth.begin(), grid.presmooth.end()));
       const core::LawsonStats pre = core::optimize_lawson<D>(mesh, smooth, grid.channels, cost, lawson);
       local.presmooth_flips = pre.flips.total();
+      local.presmooth_iterations = pre.iterations;
       log("optimize on the smoothed samples: " + std::to_string(pre.iterations) + " iterations, flips " +
           pre.flips.summary());
     }

@@ -92,6 +92,7 @@ struct VolumeUpscaleStats : StageSeconds, OptimizerSummary<core::FlipCounts> {
   bool planar = false;          // handled by the 2D method (a single slice)
   long long planar_flips = 0;   // its 2D edge flips
   long long presmooth_flips = 0;  // of the graduated optimization's first pass
+  int presmooth_iterations = 0;   // and its iterations (phases of the slab schedule)
 };
 
 // The graduated optimization the command line and the Python module use
