@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 
@@ -37,4 +38,23 @@ void parse_width_height(const std::string& text, const std::string& option, int 
     throw ddt::Error(option + " wants N or WxH between " + std::to_string(lo) + " and " + std::to_string(hi) +
                      ", got '" + text + "'");
   width = w, height = h;
+}
+
+namespace {
+std::string number_text(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", v);
+  return text;
+}
+}  // namespace
+
+double parse_ratio(const std::string& text, const std::string& option, double lo, double hi) {
+  char extra = 0;
+  double a = 0, b = 1;
+  const int n = std::sscanf(text.c_str(), "%lf/%lf%c", &a, &b, &extra);
+  const double value = a / b;
+  if ((n != 1 && n != 2) || !(b > 0) || !std::isfinite(value) || !(value > lo) || value > hi)
+    throw ddt::Error(option + " wants a number or a ratio A/B (e.g. 4, 2.5 or 60/24) in (" + number_text(lo) + ", " +
+                     number_text(hi) + "], got '" + text + "'");
+  return value;
 }

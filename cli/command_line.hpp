@@ -20,3 +20,7 @@ std::optional<int> parse_command_line(CLI::App& app, int argc, char** argv, cons
 // "N" (N x N) or "WxH", each in [lo, hi]; throws ddt::Error naming `option`.
 void parse_width_height(const std::string& text, const std::string& option, int lo, int hi, int& width,
                         int& height);
+
+// "X" or "A/B" (a frame-rate ratio, e.g. 60/24 or 30000/1001), in (lo, hi];
+// throws ddt::Error naming `option`.
+double parse_ratio(const std::string& text, const std::string& option, double lo, double hi);

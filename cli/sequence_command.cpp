@@ -35,7 +35,7 @@ namespace {
 // (8 bytes an output sample with the ownership count), the mesh (about
 // 0.5 KB an input sample, docs/volumes.md) and the cubic render's gradients.
 double tile_bytes(int width, int height, int channels, int out_width, int out_height, int tile_frames,
-                  int margin_frames, int time_scale) {
+                  int margin_frames, double time_scale) {
   const double in = double(width) * height * (tile_frames + 2 * margin_frames + 1);
   const double out = double(out_width) * out_height * ((tile_frames + 2 * margin_frames) * time_scale + 1);
   return channels * (16.0 * in + 8.0 * out) + 512.0 * in;
@@ -64,8 +64,10 @@ static int run_sequence_eval(int argc, char** argv) {
   app.add_option("--speed", options.speed, "multiplies every scene's motion (a sweep over speeds)")
       ->check(CLI::Range(0.0, 100.0))
       ->capture_default_str();
-  app.add_option("--time-scale", options.time_scale, "frames made per kept frame")
-      ->check(whole_number(2, 64))
+  std::string eval_time_scale = "4";
+  app.add_option("--time-scale", eval_time_scale,
+                 "frame-rate factor P or P/Q (whole numbers, P > Q): every P-th frame of the full rate is kept and "
+                 "every Q-th made (5/2: 24 to 60 frames a second)")
       ->capture_default_str();
   app.add_option("--presmooth", options.presmooth,
                  "the ddt methods' --presmooth sigma (default: the sequence command's; ddt-unsmoothed stays 0)")
@@ -80,6 +82,14 @@ static int run_sequence_eval(int argc, char** argv) {
   if (const auto status = parse_command_line(app, argc, argv, "ddtscale sequence-eval")) return *status;
   try {
     if (!size_spec.empty()) parse_width_height(size_spec, "--size", 4, 4096, options.width, options.height);
+    {
+      char extra = 0;
+      int p = 0, q = 1;
+      const int n = std::sscanf(eval_time_scale.c_str(), "%d/%d%c", &p, &q, &extra);
+      if ((n != 1 && n != 2) || q < 1 || p <= q || p > 64)
+        throw ddt::Error("--time-scale wants P or P/Q, whole numbers with Q < P <= 64, got '" + eval_time_scale + "'");
+      options.time_scale = p, options.output_step = q;
+    }
     if (!quiet) options.log = [](const std::string& line) { std::cerr << line << "\n"; };
     const std::string text = ddt::sequence_experiment_table(ddt::run_sequence_experiments(options));
     std::cout << text;
@@ -136,7 +146,8 @@ static int run_sequence_upscale(int argc, char** argv) {
   std::string input, output, size_spec, method = "ddt", cost = "variance", slopes = "mc4";
   std::string render = ddt::to_string(ddt::sequence_volume_defaults().render);
   double scale = 1;
-  int time_scale = 1, threads = 0;
+  std::string time_scale_text = "1";
+  int threads = 0;
   double tolerance = 1e-9;
   bool verbose = false, quiet = false;
   ddt::SequenceUpscaleOptions options;
@@ -155,10 +166,10 @@ static int run_sequence_upscale(int argc, char** argv) {
   app.add_option("output", output,
                  "output frames, a pattern too (e.g. out/out_%04d.png); the format follows its extension")
       ->required();
-  app.add_option("-t,--time-scale", time_scale,
-                 "frame-rate factor, a whole number: T input frames become (T - 1) * N + 1, input frame k is output "
-                 "frame k * N (default 1: no new frames)")
-      ->check(whole_number(1, 64))
+  app.add_option("-t,--time-scale", time_scale_text,
+                 "frame-rate factor: a whole number N (T input frames become (T - 1) * N + 1, input frame k is "
+                 "output frame k * N), or any number or ratio, e.g. 2.5 or 60/24 to make 60 frames a second of 24 "
+                 "(output frame g is the instant g / N: floor((T - 1) * N) + 1 frames); default 1")
       ->capture_default_str();
   app.add_option("-s,--scale", scale, "spatial magnification of every frame, any real > 0 (default 1)");
   app.add_option("--size", size_spec, "output frame size instead of --scale: WxH");
@@ -227,6 +238,7 @@ static int run_sequence_upscale(int argc, char** argv) {
     for (int n : numbers) input_paths.push_back(in_pattern.path(n));
     if (out_pattern.path(first_number) == in_pattern.path(first_number))
       throw ddt::Error("the output pattern '" + output + "' names the input frames");
+    const double time_scale = parse_ratio(time_scale_text, "--time-scale", 0, 1024);
     const int out_frames = ddt::sequence_output_frames(frames, time_scale);
     // Any spelling of an input frame among the outputs is refused before the work.
     std::vector<ddt::FileId> input_ids;

@@ -310,14 +310,14 @@ py::array upscale_volume(const py::array& array, const py::object& scale, const 
   return array_from_volume(result, in.dtype);
 }
 
-py::list upscale_sequence(const py::array& frames, int time_scale, const py::object& scale, const py::object& size,
+py::list upscale_sequence(const py::array& frames, double time_scale, const py::object& scale, const py::object& size,
                           const py::dict& kwargs) {
   SequenceCall call = sequence_call(kwargs);
   if (frames.ndim() != 3 && frames.ndim() != 4)
     throw ddt::Error("frames is a T x H x W or T x H x W x C array, not one of " + std::to_string(frames.ndim()) +
                      " dimensions");
   if (frames.shape(0) < 1) throw ddt::Error("the sequence has no frames");
-  if (time_scale < 1 || time_scale > 64) throw ddt::Error("--time-scale must be a whole number from 1 to 64");
+  if (!(time_scale > 0) || !(time_scale <= 1024)) throw ddt::Error("--time-scale must be a number in (0, 1024]");
   std::vector<ddt::Image> in;
   ImageArray first;
   for (py::ssize_t t = 0; t < frames.shape(0); ++t) {

@@ -44,6 +44,12 @@ grep -q "o_0001.png .. .*o_0009.png: 9 frames of 40x32" "$work/err.txt" && ok ||
 if command -v idiff >/dev/null; then
   idiff -fail 0 "$work/in/in_0002.png" "$work/out/o_0005.png" >/dev/null && ok || bad "input frame 2 is not output frame 5"
 fi
+# A frame-rate ratio: 3 frames at 5/2 are floor(2 x 2.5) + 1 = 6, frame 6 the instant 2 (the last input frame).
+run_ok "time 5/2" "$work/in/in_%04d.png" "$work/out/r_%04d.png" --time-scale 5/2
+[ "$(count "$work/out" 'r_*.png')" -eq 6 ] && ok || bad "time 5/2 wrote $(count "$work/out" 'r_*.png') frames, not 6"
+if command -v idiff >/dev/null; then
+  idiff -fail 0.000001 "$work/in/in_0003.png" "$work/out/r_0006.png" >/dev/null && ok || bad "input frame 3 is not output frame 6 at 5/2"
+fi
 # Space and time, EXR out, verbose.
 run_ok "scale 2, exr" "$work/in/in_%04d.png" "$work/out/big_%02d.exr" --time-scale 2 --scale 2 -v --threads 1
 [ "$(count "$work/out" 'big_*.exr')" -eq 5 ] && ok || bad "time x2 wrote $(count "$work/out" 'big_*.exr') frames, not 5"
@@ -66,6 +72,8 @@ run_fail "same pattern" "$work/in/in_%04d.png" "$work/in/in_%04d.png" --time-sca
 run_fail "an input by another spelling" "$work/in/in_%04d.png" "$work/in/../in/in_%04d.png" --time-scale 2
 grep -q "is an input frame" "$work/err.txt" && ok || bad "another spelling of the input: $(cat "$work/err.txt")"
 run_fail "time scale 0" "$work/in/in_%04d.png" "$work/out/z_%04d.png" --time-scale 0
+run_fail "time scale over zero" "$work/in/in_%04d.png" "$work/out/z_%04d.png" --time-scale 5/0
+run_fail "time scale not a number" "$work/in/in_%04d.png" "$work/out/z_%04d.png" --time-scale fast
 run_fail "two numbers" "$work/in/in_%04d_%d.png" "$work/out/z_%04d.png" --time-scale 2
 run_fail "no extension" "$work/in/in_%04d.png" "$work/out/z_%04d" --time-scale 2
 cp "$work/in/in_0003.png" "$work/in/in_0005.png"

@@ -55,7 +55,7 @@ def upscale_volume(array: np.ndarray, scale: Optional[float] = None,
     return _ddtscale.upscale_volume(array, scale, size, options)
 
 
-def upscale_sequence(frames: np.ndarray, time_scale: int = 1, scale: Optional[float] = None,
+def upscale_sequence(frames: np.ndarray, time_scale: float = 1, scale: Optional[float] = None,
                      size: Union[int, Tuple[int, int], None] = None, **options: Any) -> np.ndarray:
     return np.stack(_ddtscale.upscale_sequence(frames, time_scale, scale, size, options))
 
@@ -124,13 +124,16 @@ upscale_sequence.__doc__ = f"""Frame-rate upsampling (and enlargement) of an ima
 
     frames      T x H x W or T x H x W x C array: uint8, uint16 (read as 0..1),
                 float32 or float64, as upscale() takes images
-    time_scale  frames made per input frame, a whole number: T frames become
-                (T - 1) * time_scale + 1, frame k * time_scale is input frame k
+    time_scale  frames made per input frame: at a whole number T frames
+                become (T - 1) * time_scale + 1, frame k * time_scale is input
+                frame k; any number > 0 works (60 / 24 = 2.5 makes 60 frames a
+                second of 24): output frame g is the instant g / time_scale,
+                floor((T - 1) * time_scale) + 1 frames
     scale       spatial magnification of every frame (default 1); or
     size        (height, width) of the output frames, or one number for both
 
-    Returns a (T - 1) * time_scale + 1 x H' x W' [x C] array of the input's
-    dtype.
+    Returns a floor((T - 1) * time_scale) + 1 x H' x W' [x C] array of the
+    input's dtype.
 
     Options (`ddtscale in_%04d.png out_%04d.png --help`), with their defaults:
 {_options_doc(SEQUENCE_OPTIONS)}

@@ -75,7 +75,7 @@ def upscale_volume(
 
 def upscale_sequence(
     frames: np.ndarray,
-    time_scale: int = 1,
+    time_scale: float = 1,
     scale: Optional[float] = None,
     size: Union[int, Tuple[int, int], None] = None,
     *,

@@ -78,9 +78,10 @@ bool have_program(const std::string& program) { return run_program({program, "-v
 
 // FFmpeg's minterpolate on the frames (8-bit PNG through a temporary
 // directory). The input is read at 1 frame a second and written at
-// time_scale, so output frame s * k is input frame k; the last input frame
-// is given twice because the filter stops before the last input's instant.
-std::vector<Image> minterpolate(const std::vector<Image>& frames, int time_scale, const std::string& ffmpeg) {
+// p / q frames a second, so output frame g is the instant g q / p; the last
+// input frame is given twice because the filter stops before the last
+// input's instant.
+std::vector<Image> minterpolate(const std::vector<Image>& frames, int p, int q, const std::string& ffmpeg) {
   TemporaryDirectory dir;
   const FramePattern in = parse_frame_pattern((dir.path / "in_%04d.png").string());
   for (std::size_t k = 0; k <= frames.size(); ++k)
@@ -88,12 +89,13 @@ std::vector<Image> minterpolate(const std::vector<Image>& frames, int time_scale
   const std::string out = (dir.path / "out_%04d.png").string();
   const int status = run_program({ffmpeg, "-nostdin", "-loglevel", "error", "-y", "-framerate", "1", "-start_number",
                                   "0", "-i", in.text, "-vf",
-                                  "minterpolate=fps=" + std::to_string(time_scale) + ":mi_mode=mci", "-start_number",
+                                  "minterpolate=fps=" + std::to_string(p) + "/" + std::to_string(q) + ":mi_mode=mci",
+                                  "-start_number",
                                   "0", out});
   if (status != 0) throw Error("ffmpeg's minterpolate failed (exit status " + std::to_string(status) + ")");
   const FramePattern made = parse_frame_pattern(out);
   std::vector<Image> result;
-  const int count = sequence_output_frames(static_cast<int>(frames.size()), time_scale);
+  const int count = sequence_output_frames(static_cast<int>(frames.size()), double(p) / q);
   for (int k = 0; k < count; ++k) {
     if (!fs::exists(made.path(k)))
       throw Error("ffmpeg's minterpolate made " + std::to_string(k) + " frames, not " + std::to_string(count));
@@ -110,7 +112,7 @@ std::vector<Image> minterpolate(const std::vector<Image>& frames, int time_scale
   return result;
 }
 
-std::vector<Image> ddt_frames(const std::vector<Image>& frames, int time_scale, const std::string& method,
+std::vector<Image> ddt_frames(const std::vector<Image>& frames, double time_scale, const std::string& method,
                               double presmooth) {
   SequenceUpscaleOptions o;
   if (presmooth >= 0) o.volume.presmooth = {presmooth, presmooth, 0.0};
@@ -151,26 +153,32 @@ Image row_of(const std::vector<Image>& images) {
 
 }  // namespace
 
-std::vector<Image> blend_frames(const std::vector<Image>& frames, int time_scale) {
+std::vector<Image> blend_frames(const std::vector<Image>& frames, double time_scale) {
   std::vector<Image> out;
-  for (std::size_t k = 0; k < frames.size(); ++k)
-    for (int j = 0; j < time_scale && (j == 0 || k + 1 < frames.size()); ++j) {
-      if (j == 0) {
-        out.push_back(frames[k]);
-        continue;
-      }
-      const float w = float(j) / time_scale;
-      Image f = frames[k];
-      for (std::size_t i = 0; i < f.pixels.size(); ++i)
-        f.pixels[i] = (1 - w) * frames[k].pixels[i] + w * frames[k + 1].pixels[i];
-      out.push_back(std::move(f));
+  const int count = sequence_output_frames(static_cast<int>(frames.size()), time_scale);
+  for (int g = 0; g < count; ++g) {
+    const double u = g / time_scale;
+    const std::size_t k = std::min(frames.size() - 1, static_cast<std::size_t>(std::floor(u + 1e-9)));
+    const float w = static_cast<float>(u - double(k));
+    if (k + 1 >= frames.size() || w <= 1e-6f) {
+      out.push_back(frames[k]);
+      continue;
     }
+    Image f = frames[k];
+    for (std::size_t i = 0; i < f.pixels.size(); ++i)
+      f.pixels[i] = (1 - w) * frames[k].pixels[i] + w * frames[k + 1].pixels[i];
+    out.push_back(std::move(f));
+  }
   return out;
 }
 
 std::vector<SequenceExperimentRow> run_sequence_experiments(const SequenceExperimentOptions& o) {
   if (o.input_frames < 2) throw Error("the experiments need at least 2 input frames");
-  if (o.time_scale < 2) throw Error("the experiments need a time scale of at least 2");
+  if (o.output_step < 1 || o.time_scale <= o.output_step)
+    throw Error("the experiments need a frame-rate factor above 1 (time scale " + std::to_string(o.time_scale) + "/" +
+                std::to_string(o.output_step) + ")");
+  const int p = o.time_scale, q = o.output_step;
+  const double factor = double(p) / q;
   if (!o.picture_dir.empty() && !fs::is_directory(o.picture_dir))
     throw Error("no directory '" + o.picture_dir + "' for the pictures");
   for (const std::string& m : o.methods) {
@@ -195,11 +203,15 @@ std::vector<SequenceExperimentRow> run_sequence_experiments(const SequenceExperi
       continue;
     }
     if (scene.photo && photo.empty()) photo = read_image(o.photo).image;
-    const int full = sequence_output_frames(o.input_frames, o.time_scale);
+    // Full-rate frame t is the instant t / p of the kept frames; output
+    // frame g (at g / factor) is full-rate frame g q.
+    const int made_count = sequence_output_frames(o.input_frames, factor);
     std::vector<Image> truth, input;
-    for (int t = 0; t < full; ++t) {
-      truth.push_back(render_sequence_frame(name, t * o.speed, o.width, o.height, &photo));
-      if (t % o.time_scale == 0) input.push_back(quantized(truth.back()));
+    for (int t = 0; t <= (o.input_frames - 1) * p; ++t) {
+      if (t % p != 0 && t % q != 0) continue;
+      const Image frame = render_sequence_frame(name, t * o.speed, o.width, o.height, &photo);
+      if (t % p == 0) input.push_back(quantized(frame));
+      if (t % q == 0) truth.push_back(frame);
     }
     std::vector<std::vector<Image>> shown = {truth};
     for (const std::string& m : o.methods) {
@@ -208,15 +220,15 @@ std::vector<SequenceExperimentRow> run_sequence_experiments(const SequenceExperi
         continue;
       }
       const auto t0 = Clock::now();
-      std::vector<Image> made = m == "blend"          ? blend_frames(input, o.time_scale)
-                                : m == "minterpolate" ? minterpolate(input, o.time_scale, o.ffmpeg)
-                                                      : ddt_frames(input, o.time_scale, m, o.presmooth);
+      std::vector<Image> made = m == "blend"          ? blend_frames(input, factor)
+                                : m == "minterpolate" ? minterpolate(input, p, q, o.ffmpeg)
+                                                      : ddt_frames(input, factor, m, o.presmooth);
       SequenceExperimentRow row{name, m, 0, std::numeric_limits<double>::infinity(), seconds_since(t0)};
       int count = 0;
-      for (int t = 0; t < full; ++t) {
-        if (t % o.time_scale == 0) continue;
-        const double p = frame_psnr(made[t], truth[t]);
-        row.psnr += p, row.worst_psnr = std::min(row.worst_psnr, p), ++count;
+      for (int g = 0; g < made_count; ++g) {
+        if ((g * q) % p == 0) continue;  // a kept frame
+        const double psnr = frame_psnr(made[g], truth[g]);
+        row.psnr += psnr, row.worst_psnr = std::min(row.worst_psnr, psnr), ++count;
       }
       row.psnr /= count;
       char line[200];
@@ -227,7 +239,8 @@ std::vector<SequenceExperimentRow> run_sequence_experiments(const SequenceExperi
       shown.push_back(std::move(made));
     }
     if (!o.picture_dir.empty()) {
-      const int t = (o.input_frames / 2) * o.time_scale + o.time_scale / 2;
+      // The made frame nearest halfway after the middle kept frame.
+      const int t = static_cast<int>(std::lround(((o.input_frames / 2) * p + p / 2.0) / q));
       std::vector<Image> frames, slices;
       for (const auto& seq : shown) frames.push_back(seq[t]), slices.push_back(xt_slice(seq, o.height / 2));
       const fs::path dir(o.picture_dir);

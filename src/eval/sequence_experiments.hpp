@@ -40,7 +40,8 @@ namespace ddt {
 struct SequenceExperimentOptions {
   int width = 128, height = 128;
   int input_frames = 17;
-  int time_scale = 4;
+  int time_scale = 4;   // every time_scale-th frame of the full rate is kept as input
+  int output_step = 1;  // and every output_step-th is made: a frame-rate factor of time_scale / output_step
   double speed = 1;  // multiplies the scenes' motion
   double presmooth = -1;  // >= 0: the ddt methods' --presmooth (ddt-unsmoothed stays 0); < 0: the default
   std::vector<std::string> scenes = {"disk", "bar", "strokes", "pan", "zoom"};
@@ -62,7 +63,8 @@ struct SequenceExperimentRow {
 std::vector<SequenceExperimentRow> run_sequence_experiments(const SequenceExperimentOptions& options);
 std::string sequence_experiment_table(const std::vector<SequenceExperimentRow>& rows);
 
-// Frames between the kept ones by linear blending: (T - 1) * s + 1 frames.
-std::vector<Image> blend_frames(const std::vector<Image>& frames, int time_scale);
+// Frames by linear blending between the two kept frames around each
+// instant g / s: floor((T - 1) * s) + 1 frames.
+std::vector<Image> blend_frames(const std::vector<Image>& frames, double time_scale);
 
 }  // namespace ddt

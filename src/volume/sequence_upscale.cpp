@@ -3,22 +3,30 @@
 #include "util/error.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 namespace ddt {
 
-int sequence_output_frames(int frames, int time_scale) { return tiled_output_slices(frames, time_scale, true); }
+int sequence_output_frames(int frames, double time_scale) { return tiled_output_slices(frames, time_scale, true); }
 
 int sequence_tile_frames(int width, int height, int margin_frames) {
   return default_tile_slices(static_cast<long long>(width) * height, margin_frames);
 }
 
 void upscale_sequence(int frames, int width, int height, int channels, const std::function<Image(int)>& read,
-                      int out_width, int out_height, int time_scale, const SequenceUpscaleOptions& options,
+                      int out_width, int out_height, double time_scale, const SequenceUpscaleOptions& options,
                       const std::function<void(Image, int)>& write, SequenceUpscaleStats* stats) {
   if (frames < 1) throw Error("the sequence has no frames");
-  if (time_scale < 1) throw Error("the time scale must be a whole number of at least 1");
-  const VolumeTiling tiling{options.tile_frames, options.margin_frames, options.exact_tiles, options.progress};
+  if (!(time_scale > 0) || !(time_scale <= 1024)) throw Error("the time scale must be a number in (0, 1024]");
+  VolumeTiling tiling;
+  tiling.tile_slices = options.tile_frames;
+  tiling.margin_slices = options.margin_frames;
+  tiling.exact = options.exact_tiles;
+  tiling.progress = options.progress;
+  // A whole scale is read from the sizes (the same arithmetic as the
+  // untiled volume); any other is given to the tiler.
+  if (time_scale != std::floor(time_scale)) tiling.axis_scale = time_scale;
   VolumeUpscaleOptions volume = options.volume;
   volume.node_centred[3] = true;  // frames are instants
   volume.presmooth[3] = 0;

@@ -7,11 +7,13 @@
 // tetrahedra that align with it interpolate along the motion, without
 // optical flow and without the double images of blended frames.
 //
-// Time is node-centred (frames are instants): T input frames at time
-// scale s become (T - 1) * s + 1 output frames, output frame s * k is input
-// frame k (bit for bit at odd spatial scales and at scale 1), and the
-// frames between sample the field at t = k + j / s. Space follows the
-// pixel convention (image.hpp).
+// Time is node-centred (frames are instants): output frame g samples the
+// field at the instant g / s of the input's frames (0 the first). At a
+// whole time scale s, T input frames become (T - 1) * s + 1 output frames
+// and output frame s * k is input frame k (bit for bit at odd spatial
+// scales and at scale 1). Any s > 0 works: a frame-rate conversion from 24
+// to 60 frames a second is s = 2.5, and makes floor((T - 1) * s) + 1
+// frames. Space follows the pixel convention (image.hpp).
 //
 // Memory is bounded by tiling over time (volume_tiles.hpp: a sequence is a
 // series of one z-slice): the frames are reconstructed in tiles of
@@ -63,14 +65,16 @@ using SequenceUpscaleStats = VolumeTilingStats;
 // at most) including its margins, at least one frame beyond them.
 int sequence_tile_frames(int width, int height, int margin_frames);
 
-// Output frames of T input frames at time scale s: (T - 1) * s + 1.
-int sequence_output_frames(int frames, int time_scale);
+// Output frames of T input frames at time scale s: (T - 1) * s + 1 at a
+// whole s, floor((T - 1) * s) + 1 as a rule (the last at or before the
+// last input frame).
+int sequence_output_frames(int frames, double time_scale);
 
 // `frames` input frames of width x height x channels, read on demand by
 // read(number) (0-based); written by write(frame, number) in order of
 // number, each out_width x out_height.
 void upscale_sequence(int frames, int width, int height, int channels, const std::function<Image(int)>& read,
-                      int out_width, int out_height, int time_scale, const SequenceUpscaleOptions& options,
+                      int out_width, int out_height, double time_scale, const SequenceUpscaleOptions& options,
                       const std::function<void(Image, int)>& write, SequenceUpscaleStats* stats = nullptr);
 
 }  // namespace ddt

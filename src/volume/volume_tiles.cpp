@@ -28,8 +28,9 @@ std::array<int, 4> mesh_problem_size(const std::array<int, 4>& in) {
 
 }  // namespace
 
-int tiled_output_slices(int slices, int scale, bool node_centred) {
-  return node_centred ? (slices - 1) * scale + 1 : slices * scale;
+int tiled_output_slices(int slices, double scale, bool node_centred) {
+  const double count = node_centred ? std::floor((slices - 1) * scale + 1e-9) + 1 : std::round(slices * scale);
+  return static_cast<int>(std::clamp(count, 1.0, 2147483647.0));
 }
 
 int default_tile_slices(long long samples_per_slice, int margin_slices) {
@@ -50,27 +51,40 @@ void upscale_in_tiles(const std::array<int, 4>& in, const std::array<int, 4>& ou
   const int axis = in[3] > 1 ? 3 : 2;
   const bool node = options.node_centred[axis] && in[axis] > 1;
   const int n = in[axis];
+  const std::array<int, 4> problem = mesh_problem_size(in);
+  const bool mesh_problem = problem[2] > 1;  // a 3D (or 4D) mesh: windows along the last axis, slabs
   // Units tiled: the n - 1 intervals between node-centred slices, or the n cells.
   const int units = node ? n - 1 : n;
-  const double exact_scale = node ? double(out[axis] - 1) / std::max(1, n - 1) : double(out[axis]) / n;
-  if (n > 1 && (exact_scale < 1 || exact_scale != std::floor(exact_scale)))
-    throw Error(std::string("tiles need a whole scale along ") + (axis == 3 ? "time" : "z") + " (" +
-                (node ? "(n - 1) * S + 1" : "n * S") + " output slices)");
-  if (n == 1) {  // nothing to tile: the one slice, enlarged (and repeated) whole
+  double scale = tiling.axis_scale;
+  if (scale <= 0) {
+    scale = node ? double(out[axis] - 1) / std::max(1, n - 1) : double(out[axis]) / n;
+    if (n > 1 && (scale < 1 || scale != std::floor(scale)))
+      throw Error(std::string("tiles need a whole scale along ") + (axis == 3 ? "time" : "z") + " (" +
+                  (node ? "(n - 1) * S + 1" : "n * S") + " output slices)");
+  } else if (!mesh_problem && n > 1) {
+    throw Error("a fractional scale along the tiled axis needs at least 2 samples on two other axes");
+  }
+  if (n == 1 || !mesh_problem) {  // nothing to tile: enlarged whole
     Volume whole(in, channels, 0.0f);
-    read(0, whole.voxels.data());
+    const std::size_t slice = whole.voxels.size() / n;
+    for (int k = 0; k < n; ++k) read(k, whole.voxels.data() + k * slice);
     const Volume result = upscale_volume(whole, out, options);
     const std::size_t out_slice = result.voxels.size() / out[axis];
     for (int g = 0; g < out[axis]; ++g) write(result.voxels.data() + g * out_slice, g);
     if (stats) *stats = VolumeTilingStats{}, stats->tiles = 1;
     return;
   }
-  const int scale = static_cast<int>(exact_scale);
+  // Output sample g sits at g / scale (node-centred: instants, input slice
+  // k at k) or (g + 0.5) / scale (cells: input slice k spans [k, k + 1));
+  // the first at or after u:
+  const double half = node ? 0.0 : 0.5;
+  auto first_output_at = [&](double u) {
+    return static_cast<int>(std::clamp(std::ceil(u * scale - half - 1e-9), 0.0, double(out[axis])));
+  };
 
   std::size_t in_slice = static_cast<std::size_t>(channels), out_slice = static_cast<std::size_t>(channels);
   for (int a = 0; a < axis; ++a) in_slice *= in[a], out_slice *= out[a];
-  const std::array<int, 4> problem = mesh_problem_size(in);
-  const bool slabbed = tiling.exact && problem[2] > 1;  // a 3D (or 4D) mesh problem: the slab schedule runs
+  const bool slabbed = tiling.exact;
   int tile = tiling.tile_slices > 0 ? tiling.tile_slices
                                     : default_tile_slices(static_cast<long long>(in_slice / channels), tiling.margin_slices);
   int margin = tiling.margin_slices;
@@ -92,28 +106,43 @@ void upscale_in_tiles(const std::array<int, 4>& in, const std::array<int, 4>& ou
   std::deque<std::vector<float>> cache;  // input slices cache_first, cache_first + 1, ...
   int cache_first = 0;
   for (int a0 = 0;;) {
-    // The tile's own units are [a0, a1); lo..hi adds the margins; its input
-    // slices are lo..hi (node-centred) or lo..hi - 1.
+    // The tile's own units are [a0, a1) (and its output samples those at
+    // positions in it; the last tile's include the end); lo..hi adds the
+    // margins; its input slices are lo..hi (node-centred) or lo..hi - 1.
     const int a1 = std::min(a0 + tile, units);
     const int lo = std::max(0, a0 - margin), hi = std::min(units, a1 + margin);
-    const int first_slice = lo, slices = node ? hi - lo + 1 : hi - lo;
-    while (!cache.empty() && cache_first < first_slice) cache.pop_front(), ++cache_first;
-    if (cache.empty()) cache_first = first_slice;
+    const int slices = node ? hi - lo + 1 : hi - lo;
+    const bool last = a1 == units;
+    const int g0 = first_output_at(a0), g1 = last ? out[axis] : first_output_at(a1);
+    while (!cache.empty() && cache_first < lo) cache.pop_front(), ++cache_first;
+    if (cache.empty()) cache_first = lo;
+    while (cache_first > lo) {  // a margin widened past what was kept
+      cache.emplace_front(in_slice);
+      read(--cache_first, cache.front().data());
+    }
     auto t0 = Clock::now();
-    while (cache_first + static_cast<int>(cache.size()) < first_slice + slices) {
+    while (cache_first + static_cast<int>(cache.size()) < lo + slices) {
       cache.emplace_back(in_slice);
       read(cache_first + static_cast<int>(cache.size()) - 1, cache.back().data());
     }
     local.seconds_read += seconds_since(t0);
+    if (g1 <= g0 && !last) {  // a tile between two output samples (scale < 1): nothing of its own
+      a0 = a1;
+      continue;
+    }
 
     std::array<int, 4> part_size = in, part_out = out;
     part_size[axis] = slices;
-    part_out[axis] = tiled_output_slices(slices, scale, node);
+    part_out[axis] = std::max(1, g1 - g0);
     Volume part(part_size, channels, 0.0f);
     for (int k = 0; k < slices; ++k) {
-      const std::vector<float>& slice = cache[static_cast<std::size_t>(first_slice - cache_first + k)];
+      const std::vector<float>& slice = cache[static_cast<std::size_t>(lo - cache_first + k)];
       std::copy(slice.begin(), slice.end(), part.voxels.begin() + static_cast<std::ptrdiff_t>(k * in_slice));
     }
+    // The part draws the tile's own output samples only: a window of the
+    // whole output's grid, counted from the part's first input slice.
+    o.last_axis.scale = scale;
+    o.last_axis.first = g0 - lo * scale;
     VolumeUpscaleStats vs;
     const Volume result = upscale_volume(part, part_out, o, &vs);
     local.flips += vs.flips.total() + vs.planar_flips + vs.presmooth_flips;
@@ -121,10 +150,8 @@ void upscale_in_tiles(const std::array<int, 4>& in, const std::array<int, 4>& ou
     local.seconds_optimize += vs.seconds_optimize;
     local.seconds_render += vs.seconds_render;
     if (slabbed && o.method == "ddt") {
-      const int needed =
-          tile_margin_needed(vs.iterations + vs.presmooth_iterations, region) + smoothing_reach;
-      const bool cut_short = (lo > 0 && a0 - lo < needed) || (hi < units && hi - a1 < needed);
-      if (cut_short) {
+      const int needed = tile_margin_needed(vs.iterations + vs.presmooth_iterations, region) + smoothing_reach;
+      if ((lo > 0 && a0 - lo < needed) || (hi < units && hi - a1 < needed)) {
         margin = round_up(needed, region);
         ++local.reruns;
         if (options.log)
@@ -136,12 +163,9 @@ void upscale_in_tiles(const std::array<int, 4>& in, const std::array<int, 4>& ou
     }
     ++local.tiles;
     local.simplices = std::max(local.simplices, vs.tetrahedra);
-
-    const bool last = a1 == units;
-    const int g_end = scale * a1 + (last && node ? 1 : 0);
     t0 = Clock::now();
-    for (int g = scale * a0; g < g_end; ++g) {
-      write(result.voxels.data() + static_cast<std::size_t>(g - scale * lo) * out_slice, g);
+    for (int g = g0; g < g1; ++g) {
+      write(result.voxels.data() + static_cast<std::size_t>(g - g0) * out_slice, g);
       if (tiling.progress) tiling.progress->add(1);
     }
     local.seconds_write += seconds_since(t0);

@@ -21,9 +21,13 @@
 // Inexact tiles (exact = false): margins as given, the result differs near
 // the joins (docs/sequences.md measures it).
 //
-// The tiled axis needs a whole scale s: n input slices become (n - 1) s + 1
-// when node-centred (output slice s k is input slice k), n s when
-// cell-centred (slices are cells: output slice G samples (G + 0.5) / s).
+// Along the tiled axis, at scale s: node-centred, output slice g samples
+// the instant g / s (output slice s k is input slice k; n input slices
+// become (n - 1) s + 1 at a whole s, floor((n - 1) s) + 1 as a rule),
+// cell-centred, output slice G samples (G + 0.5) / s (n s slices). The
+// scale is a whole number from the sizes unless VolumeTiling::axis_scale
+// gives it. Each tile draws only its own output slices (a window of the
+// whole output's grid, VolumeUpscaleOptions::last_axis).
 // A slice is the product of the other axes' sizes times channels floats,
 // channels fastest, then x, y (, z).
 //
@@ -42,6 +46,10 @@ struct VolumeTiling {
   int tile_slices = 0;     // input slices per tile; 0: default_tile_slices()
   int margin_slices = 4;   // slices reconstructed on either side of a tile (exact: at least this, whole slabs)
   bool exact = true;       // widen the margins until every tile equals the untiled result
+  // The tiled axis' scale, output samples per input sample; 0: from the
+  // sizes, a whole number. Otherwise any scale > 0 (fractional frame
+  // rates), output sample g at position g / scale as above.
+  double axis_scale = 0;
   Progress* progress = nullptr;  // "enlarge" stage, in output slices
 };
 
@@ -59,9 +67,10 @@ struct VolumeTilingStats {
 // margins, at least one slice beyond them.
 int default_tile_slices(long long samples_per_slice, int margin_slices);
 
-// Output slices of n input slices at a whole scale s: (n - 1) s + 1
-// node-centred, n s cell-centred.
-int tiled_output_slices(int slices, int scale, bool node_centred);
+// Output slices of n input slices at scale s: floor((n - 1) s) + 1
+// node-centred (the last at or before the last input instant), round(n s)
+// cell-centred.
+int tiled_output_slices(int slices, double scale, bool node_centred);
 
 // Slices of margin a cut side needs after `phases` phases of slabs of R
 // slices (the graduated optimization's two passes summed).

@@ -136,10 +136,13 @@ std::vector<float> mesh_reconstruction(const GridProblem<D>& grid, const VolumeU
       cubic ? grid_slopes(grid.values.data(), std::vector<int>(grid.input.begin(), grid.input.end()), grid.channels,
                           options.slopes)
             : std::vector<float>{};
-  std::vector<float> out =
-      core::scan_convert<D>(mesh, grid.values, grid.channels,
-                            core::ScanGrid<D>::whole(grid.input, grid.output, grid.node_centred), &rs,
-                            cubic ? &gradients : nullptr);
+  core::ScanGrid<D> scan = core::ScanGrid<D>::whole(grid.input, grid.output, grid.node_centred);
+  if (options.last_axis.scale > 0) {
+    const double s = options.last_axis.scale;
+    scan.scale[D - 1] = s;
+    scan.phase[D - 1] = (grid.node_centred[D - 1] ? s / 2 : 0.5) + options.last_axis.first;
+  }
+  std::vector<float> out = core::scan_convert<D>(mesh, grid.values, grid.channels, scan, &rs, cubic ? &gradients : nullptr);
   local.seconds_render = seconds_since(t0);
   log("render: " + sizes_text(grid.output) + ", " + to_string(options.render) + ", " + std::to_string(rs.owned) +
       (D == 3 ? " voxels in tetrahedra + " : " samples in simplices + ") + std::to_string(rs.rim) + " on the hull rim, " +
@@ -295,6 +298,7 @@ Volume upscale_volume(const Volume& src, const std::array<int, 4>& size, const V
     return out;
   }
   if (src.nx == 1 || src.ny == 1 || src.nz == 1) {
+    if (options.last_axis.scale > 0) throw Error("an output window along the last axis needs a 3D mesh problem");
     log("a single slice: enlarged by the 2D method and repeated along the thin axis");
     const int out3[3] = {size[0], size[1], size[2]};
     Volume out = upscale_planar(src, out3, options, local);

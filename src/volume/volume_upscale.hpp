@@ -82,6 +82,16 @@ struct VolumeUpscaleOptions {
   // under way: on moving edges in space-time it is worth up to 11.5 dB
   // (docs/sequences.md).
   std::array<double, 4> presmooth{};
+  // The output's samples along the mesh's last axis (z of a volume, t of a
+  // series) as a window of another grid: when scale > 0, output sample j
+  // there is sample first + j of the grid of that scale aligned with the
+  // input as above (first may be fractional). What tiles along that axis
+  // render (volume_tiles.hpp), and fractional frame rates. ddt and
+  // delaunay on 3D (and 4D) mesh problems only.
+  struct {
+    double scale = 0;
+    double first = 0;
+  } last_axis;
   std::function<void(const std::string&)> log;  // verbose lines; may be empty
 };
 

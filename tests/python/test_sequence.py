@@ -33,6 +33,15 @@ def test_the_edge_moves_between_the_frames_instead_of_fading():
     assert abs(blend[8, 5] - 0.5) < 0.01  # what blending would show there
 
 
+def test_a_frame_rate_ratio_makes_the_frames_at_its_instants():
+    f = moving_edge(5, 2)  # 24 to 60 frames a second: 4 x 2.5 + 1 = 11 frames
+    out = ddtscale.upscale_sequence(f, 60 / 24)
+    assert out.shape == (11, 16, 24)
+    assert (out[::5] == f[::2]).all()  # output frame 5 k is the instant 2 k
+    with pytest.raises(ValueError, match="time-scale"):
+        ddtscale.upscale_sequence(f, 0.0)
+
+
 def test_colour_space_scale_and_size():
     f = np.stack([moving_edge(3, 2)] * 3, axis=-1)
     assert ddtscale.upscale_sequence(f, 2, scale=2).shape == (5, 32, 48, 3)

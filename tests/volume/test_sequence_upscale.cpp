@@ -18,7 +18,7 @@ std::vector<Image> scene_frames(const std::string& name, int count, int step, in
   return frames;
 }
 
-std::vector<Image> run(const std::vector<Image>& in, int time_scale, SequenceUpscaleOptions o = {}, int out_w = 0,
+std::vector<Image> run(const std::vector<Image>& in, double time_scale, SequenceUpscaleOptions o = {}, int out_w = 0,
                        int out_h = 0, SequenceUpscaleStats* stats = nullptr) {
   const Image& f = in.front();
   std::vector<Image> out;
@@ -86,6 +86,38 @@ TEST_CASE("upscale_sequence: a field linear in x, y and t is exact between the f
     for (int y = 0; y < 6; ++y)
       for (int x = 0; x < 8; ++x) worst = std::max(worst, std::abs(out[g].at(x, y) - field(x, y, g / 4.0)));
   CHECK(worst < 2e-6);
+}
+
+TEST_CASE("upscale_sequence: a fractional time scale (60/24) samples the instants g / s, in tiles too") {
+  std::vector<Image> in;
+  auto field = [](double x, double y, double t) { return 0.1 + 0.02 * x + 0.03 * y + 0.05 * t; };
+  for (int t = 0; t < 9; ++t) {
+    Image f(8, 6, 1);
+    for (int y = 0; y < 6; ++y)
+      for (int x = 0; x < 8; ++x) f.at(x, y) = static_cast<float>(field(x, y, t));
+    in.push_back(f);
+  }
+  CHECK(sequence_output_frames(9, 2.5) == 21);
+  CHECK(sequence_output_frames(9, 0.5) == 5);
+  CHECK(sequence_output_frames(10, 30000.0 / 1001) == 270);  // 9 x 29.97 = 269.7: the last at or before frame 9
+  for (const int tile : {0, 2, 3}) {
+    for (const double s : {2.5, 60.0 / 25, 0.5}) {
+      SequenceUpscaleOptions o;
+      o.tile_frames = tile;
+      o.margin_frames = 1;
+      SequenceUpscaleStats stats;
+      const std::vector<Image> out = run(in, s, o, 0, 0, &stats);
+      REQUIRE(out.size() == std::size_t(sequence_output_frames(9, s)));
+      double worst = 0;
+      for (std::size_t g = 0; g < out.size(); ++g)
+        for (int y = 0; y < 6; ++y)
+          for (int x = 0; x < 8; ++x) worst = std::max(worst, std::abs(out[g].at(x, y) - field(x, y, g / s)));
+      CAPTURE(tile);
+      CAPTURE(s);
+      CHECK(worst < 2e-6);
+      if (tile > 0) CHECK(stats.tiles == (8 + tile - 1) / tile);
+    }
+  }
 }
 
 TEST_CASE("upscale_sequence: tiles over time join the untiled result closely; margins make them closer") {
