@@ -4,11 +4,13 @@
 #      (128x128, 17 kept frames -> 65): docs/sequences/experiments.md and
 #      the pictures docs/sequences/*-frames.png, *-xt.png;
 #   2. the same at other speeds (motion x0.25 .. x2): docs/sequences/speeds.md;
+#      and a frame-rate conversion by 5/2 (24 to 60 frames a second):
+#      docs/sequences/ratio.md;
 #   3. the benchmark: a 256x256 x 64-frame RGB sequence (FFmpeg's testsrc2)
 #      at time x4, time and peak memory: docs/sequences/benchmark.md.
 # Needs ffmpeg (minterpolate and the benchmark's frames) and the Set14
 # photograph for pan and zoom (../shared/datasets, or DDTSCALE_DATASETS).
-# Usage: scripts/sequence_experiments.sh [BUILD_DIR] [experiments|speeds|benchmark|all]
+# Usage: scripts/sequence_experiments.sh [BUILD_DIR] [experiments|speeds|ratio|benchmark|all]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
@@ -41,6 +43,11 @@ if [ "$what" = all ] || [ "$what" = speeds ]; then
     done
   } >docs/sequences/speeds.md
   cat docs/sequences/speeds.md
+fi
+
+if [ "$what" = all ] || [ "$what" = ratio ]; then
+  "$bin" sequence-eval --time-scale 5/2 --methods blend,minterpolate,ddt ${photo:+--photo "$photo"} \
+    --table docs/sequences/ratio.md
 fi
 
 if [ "$what" = all ] || [ "$what" = benchmark ]; then
