@@ -81,12 +81,14 @@ int fail(const char* who, const std::exception& e) {
 // triangulation (about 0.5 KB an input voxel in 3D, 6 tetrahedra; in 4D
 // 24 simplices a sample, about 1.7 KB measured at 32^3 x 16, docs/volumes.md) and the cubic
 // render's gradients (D floats an input voxel).
-double volume_job_bytes(const std::string& method, std::size_t compares, double in_voxels, double out_voxels,
-                        int channels, bool series) {
+// mesh_voxels: the input voxels of the largest mesh held (a tile's, with
+// its margins, under --tile-slices).
+double volume_job_bytes(const std::string& method, std::size_t compares, double in_voxels, double mesh_voxels,
+                        double out_voxels, int channels, bool series) {
   const bool mesh = method == "ddt" || method == "delaunay";
   const double mesh_bytes = series ? 1800.0 : 512.0;
-  return channels * ((mesh ? 20.0 : 4.0) * in_voxels + 8.0 * out_voxels * double(1 + compares)) +
-         (mesh ? mesh_bytes * in_voxels : 0.0);
+  return channels * (4.0 * in_voxels + (mesh ? 16.0 : 0.0) * mesh_voxels + 8.0 * out_voxels * double(1 + compares)) +
+         (mesh ? mesh_bytes * mesh_voxels : 0.0);
 }
 
 bool mesh_method_named(const std::string& method) { return method == "ddt" || method == "delaunay"; }
@@ -267,8 +269,30 @@ int run_volume_upscale(int argc, char** argv) {
       ddt::check_size_limit("output", size_text(out), ddt::checked_product({out[0], out[1], out[2], out[3]}),
                             max_voxels, "--max-voxels");
       const double in_voxels = double(in[0]) * in[1] * in[2] * in[3];
-      ddt::check_memory_fits("this job", volume_job_bytes(method, compare.size(), in_voxels,
-                                                          double(out[0]) * out[1] * out[2] * out[3], channels, series));
+      const double out_voxels = double(out[0]) * out[1] * out[2] * out[3];
+      const int axis = series ? 3 : 2;
+      const double slice_voxels = in_voxels / in[axis];
+      // A tile's mesh: its slices and its margins (loose, or the first guess of exact ones).
+      auto tile_voxels = [&](int slices) {
+        return std::min(in_voxels, slice_voxels * (slices + 2.0 * std::max(tiling.margin_slices, loose_tiles ? 4 : 48)));
+      };
+      const double mesh_voxels = tiling.tile_slices > 0 ? tile_voxels(tiling.tile_slices) : in_voxels;
+      const double bytes = volume_job_bytes(method, compare.size(), in_voxels, mesh_voxels, out_voxels, channels, series);
+      if (tiling.tile_slices == 0 && mesh_method_named(method) &&
+          bytes > static_cast<double>(ddt::available_memory())) {
+        // Would tiles fit? The output is still held whole.
+        int fits = 0;
+        for (int n = in[axis] / 2; n >= 1 && fits == 0; n /= 2)
+          if (volume_job_bytes(method, compare.size(), in_voxels, slice_voxels * (n + 8), out_voxels, channels,
+                               series) <= static_cast<double>(ddt::available_memory()))
+            fits = n;
+        if (fits > 0)
+          throw ddt::Error("this job needs at least " + std::to_string(static_cast<long long>(bytes / 1048576)) +
+                           " MB of memory, " + std::to_string(ddt::available_memory() / 1048576) +
+                           " MB are available; in tiles it fits: give --tile-slices " + std::to_string(fits) +
+                           " --loose-tiles (or --tile-slices alone for the untiled result, with wider margins)");
+      }
+      ddt::check_memory_fits("this job", bytes);
     };
     auto t0 = std::chrono::steady_clock::now();
     const ddt::VolumeFile file = ddt::read_volume(input, read_options);
