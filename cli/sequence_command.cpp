@@ -292,7 +292,7 @@ static int run_sequence_upscale(int argc, char** argv) {
     std::unique_ptr<ddt::ProgressBar> bar;
     if (!quiet && ddt::ProgressBar::is_terminal(stderr)) bar = std::make_unique<ddt::ProgressBar>(progress, stderr);
     options.progress = &progress;
-    options.volume.method = method;
+    options.volume.method = ddt::volume_method_by_name(method);
     options.volume.cost = cost;
     options.volume.relative_tolerance = tolerance;
     options.volume.render = ddt::render_by_name(render);

@@ -83,15 +83,14 @@ int fail(const char* who, const std::exception& e) {
 // render's gradients (D floats an input voxel).
 // mesh_voxels: the input voxels of the largest mesh held (a tile's, with
 // its margins, under --tile-slices).
-double volume_job_bytes(const std::string& method, std::size_t compares, double in_voxels, double mesh_voxels,
+double volume_job_bytes(ddt::VolumeMethod method, std::size_t compares, double in_voxels, double mesh_voxels,
                         double out_voxels, int channels, bool series) {
-  const bool mesh = method == "ddt" || method == "delaunay";
+  const bool mesh = ddt::is_mesh_method(method);
   const double mesh_bytes = series ? 1800.0 : 512.0;
   return channels * (4.0 * in_voxels + (mesh ? 16.0 : 0.0) * mesh_voxels + 8.0 * out_voxels * double(1 + compares)) +
          (mesh ? mesh_bytes * mesh_voxels : 0.0);
 }
 
-bool mesh_method_named(const std::string& method) { return method == "ddt" || method == "delaunay"; }
 
 int run_volume_upscale(int argc, char** argv) {
   std::string input, output, size_spec, method = "ddt", cost = "variance", picture, type = "same",
@@ -242,6 +241,7 @@ int run_volume_upscale(int argc, char** argv) {
       throw ddt::Error("--time-scale must be a positive number");
     const std::array<int, 4> size_given = size_spec.empty() ? std::array<int, 4>{} : parse_size(size_spec);
     if (size_given[3] != 0 && time_given) throw ddt::Error("give the steps either in --size or by --time-scale");
+    const ddt::VolumeMethod volume_method = ddt::volume_method_by_name(method);
 
     auto log = [&](const std::string& line) {
       if (verbose) std::cerr << line << "\n";
@@ -277,13 +277,13 @@ int run_volume_upscale(int argc, char** argv) {
         return std::min(in_voxels, slice_voxels * (slices + 2.0 * std::max(tiling.margin_slices, loose_tiles ? 4 : 48)));
       };
       const double mesh_voxels = tiling.tile_slices > 0 ? tile_voxels(tiling.tile_slices) : in_voxels;
-      const double bytes = volume_job_bytes(method, compare.size(), in_voxels, mesh_voxels, out_voxels, channels, series);
-      if (tiling.tile_slices == 0 && mesh_method_named(method) &&
+      const double bytes = volume_job_bytes(volume_method, compare.size(), in_voxels, mesh_voxels, out_voxels, channels, series);
+      if (tiling.tile_slices == 0 && ddt::is_mesh_method(volume_method) &&
           bytes > static_cast<double>(ddt::available_memory())) {
         // Would tiles fit? The output is still held whole.
         int fits = 0;
         for (int n = in[axis] / 2; n >= 1 && fits == 0; n /= 2)
-          if (volume_job_bytes(method, compare.size(), in_voxels, slice_voxels * (n + 8), out_voxels, channels,
+          if (volume_job_bytes(volume_method, compare.size(), in_voxels, slice_voxels * (n + 8), out_voxels, channels,
                                series) <= static_cast<double>(ddt::available_memory()))
             fits = n;
         if (fits > 0)
@@ -307,7 +307,8 @@ int run_volume_upscale(int argc, char** argv) {
     if (series && !file.node_centred[3] && size_given[3] == 0)
       out[3] = static_cast<int>(std::max(1.0, std::round(src.nt * (time_given ? time_scale
                                                                                     : scale != 0 ? scale : 1.0))));
-    if (!series && method != "ddt" && method != "delaunay" && method != "trilinear" && method != "tricubic")
+    if (!series && (volume_method == ddt::VolumeMethod::quadrilinear ||
+                    volume_method == ddt::VolumeMethod::tricubic_linear))
       throw ddt::Error("--method " + method + " is for volume series (4 axes); '" + input + "' is a 3D volume");
     for (const auto& m : compare) {
       if (series && (m == "trilinear" || m == "tricubic"))
@@ -319,7 +320,7 @@ int run_volume_upscale(int argc, char** argv) {
     const ddt::VolumeSampleType out_type = same_type ? file.type : forced_type;
     const ddt::VolumeEncoding out_encoding = same_encoding ? file.encoding : forced_encoding;
     ddt::VolumeUpscaleOptions options;
-    options.method = method;
+    options.method = volume_method;
     options.cost = cost;
     options.relative_tolerance = tolerance;
     options.render = ddt::render_by_name(render);
@@ -331,7 +332,7 @@ int run_volume_upscale(int argc, char** argv) {
     if (tiling.tile_slices > 0) {
       // Tiles along the last axis: the output is held whole (the NRRD is
       // written at once), the mesh a tile at a time.
-      if (!mesh_method_named(method)) throw ddt::Error("--tile-slices applies to the ddt and delaunay methods");
+      if (!ddt::is_mesh_method(volume_method)) throw ddt::Error("--tile-slices applies to the ddt and delaunay methods");
       tiling.exact = !loose_tiles;
       if (loose_tiles && tiling.margin_slices == 0) tiling.margin_slices = 4;
       result = ddt::Volume(out, src.channels, 0.0f);
@@ -358,7 +359,7 @@ int run_volume_upscale(int argc, char** argv) {
       result = ddt::upscale_volume(src, out, options);
     }
     char comment[240];
-    const bool mesh_method = method == "ddt" || method == "delaunay";
+    const bool mesh_method = ddt::is_mesh_method(volume_method);
     std::snprintf(comment, sizeof comment, "ddtscale: %s enlarged to %s by %s%s%s%s%s%s", size_text(src).c_str(),
                   size_text(out).c_str(), method.c_str(), method == "ddt" ? ", cost " : "",
                   method == "ddt" ? cost.c_str() : "", mesh_method ? ", render " : "",
@@ -372,7 +373,7 @@ int run_volume_upscale(int argc, char** argv) {
     std::vector<ddt::Volume> baselines;
     for (const auto& m : compare) {
       ddt::VolumeUpscaleOptions o = options;
-      o.method = m;
+      o.method = ddt::volume_method_by_name(m);
       baselines.push_back(ddt::upscale_volume(src, out, o));
       const std::string path = sibling_path(output, m);
       ddt::write_volume(path, baselines.back(), out_type, out_encoding, file.header.get(),

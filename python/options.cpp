@@ -169,7 +169,7 @@ ImageCall image_call(const py::dict& kwargs) {
 py::dict volume_defaults() {
   const VolumeCall c;
   py::dict d;
-  d["method"] = c.options.method;
+  d["method"] = ddt::to_string(c.options.method);
   d["cost"] = c.options.cost;
   d["render"] = ddt::to_string(c.options.render);
   d["slopes"] = ddt::to_string(c.options.slopes);
@@ -186,11 +186,14 @@ py::dict volume_defaults() {
 VolumeCall volume_call(const py::dict& kwargs) {
   const Keywords k(kwargs, volume_defaults());
   VolumeCall c;
-  k.get("method", c.options.method);
-  const auto& methods = ddt::volume_series_upscale_methods();  // the 3D ones and the series' (checked on the array)
-  if (std::find(methods.begin(), methods.end(), c.options.method) == methods.end())
+  std::string method = ddt::to_string(c.options.method);
+  k.get("method", method);
+  try {  // the 3D ones and the series' (checked on the array)
+    c.options.method = ddt::volume_method_by_name(method);
+  } catch (const ddt::Error&) {
     throw ddt::Error("--method must be one of ddt, delaunay, trilinear, tricubic (series: quadrilinear, "
-                     "tricubic-linear), not '" + c.options.method + "'");
+                     "tricubic-linear), not '" + method + "'");
+  }
   c.options.node_centred = {false, false, false, true};
   bool node_time = true;
   k.get("node_centred_time", node_time);
@@ -214,7 +217,7 @@ VolumeCall volume_call(const py::dict& kwargs) {
 py::dict sequence_defaults() {
   const SequenceCall c;
   py::dict d;
-  d["method"] = c.options.volume.method;
+  d["method"] = ddt::to_string(c.options.volume.method);
   d["cost"] = c.options.volume.cost;
   d["render"] = ddt::to_string(c.options.volume.render);
   d["slopes"] = ddt::to_string(c.options.volume.slopes);
@@ -233,9 +236,10 @@ SequenceCall sequence_call(const py::dict& kwargs) {
   const Keywords k(kwargs, sequence_defaults());
   SequenceCall c;
   ddt::VolumeUpscaleOptions& o = c.options.volume;
-  k.get("method", o.method);
-  if (o.method != "ddt" && o.method != "delaunay")
-    throw ddt::Error("--method must be one of ddt, delaunay, not '" + o.method + "'");
+  std::string method = ddt::to_string(o.method);
+  k.get("method", method);
+  if (method != "ddt" && method != "delaunay") throw ddt::Error("--method must be one of ddt, delaunay, not '" + method + "'");
+  o.method = ddt::volume_method_by_name(method);
   get_mesh_options(k, o);
   double sigma = o.presmooth[0];
   k.get("presmooth", sigma);

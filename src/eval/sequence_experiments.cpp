@@ -119,7 +119,7 @@ std::vector<Image> ddt_frames(const std::vector<Image>& frames, double time_scal
   const std::size_t colon = method.find(':');
   const std::string base = method.substr(0, colon);
   if (colon != std::string::npos) o.volume.cost = method.substr(colon + 1);
-  o.volume.method = base == "delaunay" ? "delaunay" : "ddt";
+  o.volume.method = base == "delaunay" ? VolumeMethod::delaunay : VolumeMethod::ddt;
   if (base == "ddt-cubic") o.volume.render = Render::cubic;
   if (base == "ddt-unsmoothed") o.volume.presmooth = {};
   std::vector<Image> out;

@@ -14,33 +14,29 @@
 #include <map>
 
 namespace ddt {
-namespace {
-
-// "ddt:sederberg" -> method "ddt", cost "sederberg"; "ddt" -> cost variance;
-// "ddt-linear", "delaunay-linear": the paper's linear render ("-cubic": the
-// default, named).
-VolumeUpscaleOptions options_for(const std::string& spec) {
+VolumeUpscaleOptions volume_options_for(const std::string& spec) {
   VolumeUpscaleOptions o;
   const auto colon = spec.find(':');
-  o.method = spec.substr(0, colon);
+  std::string name = spec.substr(0, colon);
   if (colon != std::string::npos) o.cost = spec.substr(colon + 1);
-  for (const Render render : {Render::linear, Render::cubic})
-    for (const std::string mesh_method : {"ddt", "delaunay"})
-      if (o.method == mesh_method + "-" + to_string(render)) {
-        o.method = mesh_method;
-        o.render = render;
-      }
+  for (const Render render : {Render::linear, Render::cubic}) {
+    const std::string suffix = std::string("-") + to_string(render);
+    if (name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0 &&
+        (name.rfind("ddt", 0) == 0 || name.rfind("delaunay", 0) == 0)) {
+      name.resize(name.size() - suffix.size());
+      o.render = render;
+    }
+  }
+  o.method = volume_method_by_name(name);
   return o;
 }
-
-}  // namespace
 
 std::vector<VolumeExperimentRow> run_volume_experiments(const VolumeExperimentOptions& options) {
   if (options.size < 2 || options.scale < 1) throw Error("volume experiments: size must be >= 2 and scale >= 1");
   if (options.quantize_bits < 0 || options.quantize_bits > 24)
     throw Error("volume experiments: quantize to 1..24 bits (0: no quantization)");
   const std::string suffix = options.quantize_bits > 0 ? "-q" + std::to_string(options.quantize_bits) : "";
-  for (const auto& spec : options.methods) find_cost(options_for(spec).cost);  // fail fast
+  for (const auto& spec : options.methods) find_cost(volume_options_for(spec).cost);  // fail fast
   if (!options.picture_dir.empty() && !std::filesystem::is_directory(options.picture_dir))
     throw Error("picture directory '" + options.picture_dir + "' does not exist");
   auto log = [&](const std::string& line) {
@@ -58,7 +54,7 @@ std::vector<VolumeExperimentRow> run_volume_experiments(const VolumeExperimentOp
     const Volume reference = sample_field(field, N, N, N, options.reference_ss);
     std::map<std::string, Volume> results;
     for (const std::string& spec : options.methods) {
-      const VolumeUpscaleOptions o = options_for(spec);
+      const VolumeUpscaleOptions o = volume_options_for(spec);
       VolumeUpscaleStats st;
       const auto t0 = std::chrono::steady_clock::now();
       Volume out = upscale_volume(input, N, N, N, o, &st);

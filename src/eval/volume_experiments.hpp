@@ -28,6 +28,8 @@
 // Errors: throws ddt::Error (unknown field, method or cost; unwritable
 // directory).
 
+#include "volume/volume_upscale.hpp"
+
 #include <functional>
 #include <string>
 #include <vector>
@@ -59,6 +61,12 @@ struct VolumeExperimentRow {
 };
 
 std::vector<VolumeExperimentRow> run_volume_experiments(const VolumeExperimentOptions& options);
+
+// A method of the experiments' lists: "ddt" (cost variance), "ddt:COST",
+// "ddt-linear" and "delaunay-linear" (the paper's linear render; "-cubic":
+// the default, named), or a classic method's name. Throws ddt::Error on an
+// unknown method.
+VolumeUpscaleOptions volume_options_for(const std::string& spec);
 
 // The rows as a Markdown table (field, method, RMSE, PSNR, flips, seconds).
 std::string volume_experiment_table(const std::vector<VolumeExperimentRow>& rows);

@@ -2,6 +2,7 @@
 
 #include "util/error.hpp"
 #include "io/image_io.hpp"
+#include "eval/volume_experiments.hpp"
 #include "eval/volume_fields.hpp"
 #include "eval/volume_pictures.hpp"
 #include "volume/volume_upscale.hpp"
@@ -15,21 +16,12 @@
 namespace ddt {
 namespace {
 
-// "ddt:sederberg" -> method ddt, cost sederberg; "ddt-linear" / "delaunay-linear": the linear render;
-// "ddt-unsmoothed": without the graduated optimization the command line runs on series.
+// volume_options_for's specs, and "ddt-unsmoothed": without the graduated
+// optimization the command line runs on series.
 VolumeUpscaleOptions series_options_for(const std::string& spec) {
-  VolumeUpscaleOptions o;
-  const auto colon = spec.find(':');
-  o.method = spec.substr(0, colon);
-  o.presmooth = presmooth_in_space(true);
-  if (o.method == "ddt-unsmoothed") o.method = "ddt", o.presmooth = {};
-  if (colon != std::string::npos) o.cost = spec.substr(colon + 1);
-  for (const Render render : {Render::linear, Render::cubic})
-    for (const std::string mesh_method : {"ddt", "delaunay"})
-      if (o.method == mesh_method + "-" + to_string(render)) {
-        o.method = mesh_method;
-        o.render = render;
-      }
+  const bool unsmoothed = spec.rfind("ddt-unsmoothed", 0) == 0;
+  VolumeUpscaleOptions o = volume_options_for(unsmoothed ? "ddt" + spec.substr(14) : spec);
+  o.presmooth = unsmoothed ? std::array<double, 4>{} : presmooth_in_space(true);
   o.node_centred = {false, false, false, true};
   return o;
 }
@@ -56,11 +48,14 @@ std::vector<VolumeSeriesExperimentRow> run_volume_series_experiment(const Volume
   if (options.size < 2 || options.steps < 2 || options.scale < 1 || options.time_scale < 1)
     throw Error("series experiment: size and steps must be >= 2, scales >= 1");
   for (const auto& spec : options.methods) {
-    const VolumeUpscaleOptions o = series_options_for(spec);
+    VolumeUpscaleOptions o;
+    try {
+      o = series_options_for(spec);
+    } catch (const Error&) {
+      throw Error("unknown series method '" + spec +
+                  "' (valid: quadrilinear, tricubic-linear, delaunay, ddt, ddt-unsmoothed)");
+    }
     find_cost(o.cost);  // fail fast
-    const auto& names = volume_series_upscale_methods();
-    if (std::find(names.begin(), names.end(), o.method) == names.end())
-      throw Error("unknown series method '" + spec + "' (valid: quadrilinear, tricubic-linear, delaunay, ddt, ddt-unsmoothed)");
   }
   if (!options.picture_dir.empty() && !std::filesystem::is_directory(options.picture_dir))
     throw Error("picture directory '" + options.picture_dir + "' does not exist");

@@ -149,7 +149,7 @@ void upscale_in_tiles(const std::array<int, 4>& in, const std::array<int, 4>& ou
     local.seconds_triangulate += vs.seconds_triangulate;
     local.seconds_optimize += vs.seconds_optimize;
     local.seconds_render += vs.seconds_render;
-    if (slabbed && o.method == "ddt") {
+    if (slabbed && o.method == VolumeMethod::ddt) {
       const int needed = tile_margin_needed(vs.iterations + vs.presmooth_iterations, region) + smoothing_reach;
       if ((lo > 0 && a0 - lo < needed) || (hi < units && hi - a1 < needed)) {
         margin = round_up(needed, region);

@@ -34,7 +34,7 @@ Volume upscale_planar(const Volume& src, const int out[3], const VolumeUpscaleOp
     }
   UpscaleOptions o;
   o.cost = options.cost;
-  o.optimize = options.method == "ddt";
+  o.optimize = options.method == VolumeMethod::ddt;
   o.relative_tolerance = options.relative_tolerance;
   o.max_iterations = options.max_iterations;
   o.render = options.render;
@@ -89,7 +89,7 @@ std::vector<float> mesh_reconstruction(const GridProblem<D>& grid, const VolumeU
       " points, " + std::to_string(mesh.cell_count()) + (D == 3 ? " tetrahedra, " : " simplices, ") + std::to_string(local.seconds_triangulate) + " s");
 
   t0 = Clock::now();
-  if (options.method == "ddt") {
+  if (options.method == VolumeMethod::ddt) {
     core::LawsonOptions lawson = lawson_options<core::LawsonOptions>(options);
     std::array<int, 4> size4{1, 1, 1, 1};
     for (int k = 0; k < D; ++k) size4[k] = grid.input[k];
@@ -179,8 +179,8 @@ Volume classic_upscale(const Volume& src, const std::array<int, 4>& size, const 
     // 3D without node-centred axes: the 3D resamplers as they always were.
     set_volume_channel(out, c,
                        is_3d(src, size) && !node_axes
-                           ? classic_resize_volume(channel, size[0], size[1], size[2], options.method)
-                           : classic_resize_axes(channel, size, options.method, options.node_centred));
+                           ? classic_resize_volume(channel, size[0], size[1], size[2], to_string(options.method))
+                           : classic_resize_axes(channel, size, to_string(options.method), options.node_centred));
   }
   return out;
 }
@@ -209,6 +209,31 @@ std::array<double, 4> presmooth_in_space(bool series, double sigma) {
   return {sigma, sigma, sigma, 0.0};
 }
 
+VolumeMethod volume_method_by_name(const std::string& name) {
+  static const std::pair<const char*, VolumeMethod> names[] = {
+      {"ddt", VolumeMethod::ddt},
+      {"delaunay", VolumeMethod::delaunay},
+      {"trilinear", VolumeMethod::trilinear},
+      {"tricubic", VolumeMethod::tricubic},
+      {"quadrilinear", VolumeMethod::quadrilinear},
+      {"tricubic-linear", VolumeMethod::tricubic_linear}};
+  for (const auto& [text, method] : names)
+    if (name == text) return method;
+  throw Error("unknown method '" + name + "' (valid: ddt, delaunay, trilinear, tricubic, quadrilinear, tricubic-linear)");
+}
+
+const char* to_string(VolumeMethod method) {
+  switch (method) {
+    case VolumeMethod::ddt: return "ddt";
+    case VolumeMethod::delaunay: return "delaunay";
+    case VolumeMethod::trilinear: return "trilinear";
+    case VolumeMethod::tricubic: return "tricubic";
+    case VolumeMethod::quadrilinear: return "quadrilinear";
+    case VolumeMethod::tricubic_linear: return "tricubic-linear";
+  }
+  return "?";
+}
+
 const std::vector<std::string>& volume_upscale_methods() {
   static const std::vector<std::string> names = {"ddt", "delaunay", "trilinear", "tricubic"};
   return names;
@@ -230,21 +255,22 @@ Volume upscale_volume(const Volume& src, const std::array<int, 4>& size, const V
   if (src.empty() || src.nx <= 0 || src.ny <= 0 || src.nz <= 0 || src.nt <= 0) throw Error("the input volume is empty");
   if (src.channels < 1 || src.voxels.size() != src.voxel_count() * src.channels)
     throw Error("the input volume's samples do not match its size and channels");
-  if (options.method == "ddt" && src.channels > max_cost_channels)
+  if (options.method == VolumeMethod::ddt && src.channels > max_cost_channels)
     throw Error("a volume of " + std::to_string(src.channels) + " channels: the flip costs take at most " +
                 std::to_string(max_cost_channels));
   if (size[0] < 1 || size[1] < 1 || size[2] < 1 || size[3] < 1)
     throw Error("the output size must be at least 1 on every axis");
   const bool series = !is_3d(src, size);
   const auto& methods = series ? volume_series_upscale_methods() : volume_upscale_methods();
-  if (std::find(methods.begin(), methods.end(), options.method) == methods.end())
-    throw Error("unknown method '" + options.method + "' (valid: " +
+  if (std::find(methods.begin(), methods.end(), to_string(options.method)) == methods.end())
+    throw Error(std::string("method '") + to_string(options.method) + "' is not for " +
+                (series ? "series" : "3D volumes") + " (valid: " +
                 (series ? "ddt, delaunay, quadrilinear, tricubic-linear" : "ddt, delaunay, trilinear, tricubic") + ")");
   const CostFunction& cost = find_cost(options.cost);
   VolumeUpscaleStats local;
   const StageRunner stages(options.log);
   auto log = [&](const std::string& line) { stages.log(line); };
-  if (options.method != "ddt" && options.method != "delaunay") {
+  if (!is_mesh_method(options.method)) {
     auto t0 = Clock::now();
     Volume out = classic_upscale(src, size, options);
     local.seconds_render = seconds_since(t0);

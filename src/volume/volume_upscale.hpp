@@ -54,8 +54,20 @@
 
 namespace ddt {
 
+// The reconstructions: the mesh methods (ddt, and delaunay: the initial
+// mesh, no flips) and the classic resamplers (trilinear and tricubic;
+// for series also quadrilinear and tricubic-linear).
+enum class VolumeMethod { ddt, delaunay, trilinear, tricubic, quadrilinear, tricubic_linear };
+// By the names the command line takes ("tricubic-linear"); throws
+// ddt::Error listing them.
+VolumeMethod volume_method_by_name(const std::string& name);
+const char* to_string(VolumeMethod method);
+inline bool is_mesh_method(VolumeMethod method) {
+  return method == VolumeMethod::ddt || method == VolumeMethod::delaunay;
+}
+
 struct VolumeUpscaleOptions {
-  std::string method = "ddt";         // one of volume_upscale_methods()
+  VolumeMethod method = VolumeMethod::ddt;  // of 3D volumes: one of volume_upscale_methods()
   std::string cost = "variance";      // a name from costs.hpp (the paper's 3D experiments use variance)
   double relative_tolerance = 1e-9;   // a flip must lower the local cost by more than this fraction
   int max_iterations = 10000;         // safety bound on Lawson sweeps

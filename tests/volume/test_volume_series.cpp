@@ -43,7 +43,7 @@ Volume random_series(const std::array<int, 4>& n, unsigned seed, int channels = 
 
 VolumeUpscaleOptions series_method(const std::string& m, Render render = Render::cubic) {
   VolumeUpscaleOptions o;
-  o.method = m;
+  o.method = volume_method_by_name(m);
   o.render = render;
   o.node_centred = {false, false, false, true};
   return o;

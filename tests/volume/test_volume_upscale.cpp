@@ -43,7 +43,7 @@ double worst_linear_error(const Volume& out, int nx, int ny, int nz, double marg
 
 VolumeUpscaleOptions method(const std::string& m, const std::string& cost = "variance") {
   VolumeUpscaleOptions o;
-  o.method = m;
+  o.method = volume_method_by_name(m);
   o.cost = cost;
   return o;
 }
