@@ -11,6 +11,7 @@
 #include "eval/sequence_scenes.hpp"
 #include "io/safe_file.hpp"
 #include "io/frame_sequence.hpp"
+#include "io/video_io.hpp"
 #include "util/error.hpp"
 #include "util/progress.hpp"
 #include "util/size_limits.hpp"
@@ -28,6 +29,7 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 namespace {
 
@@ -138,7 +140,7 @@ static int run_sequence_scene(int argc, char** argv) {
 bool is_sequence_command(int argc, char** argv) {
   if (argc >= 2 && (std::string(argv[1]) == "sequence-eval" || std::string(argv[1]) == "sequence-scene")) return true;
   for (int i = 1; i < argc; ++i)
-    if (argv[i][0] != '-' && ddt::is_frame_pattern(argv[i])) return true;
+    if (argv[i][0] != '-' && (ddt::is_frame_pattern(argv[i]) || ddt::is_video_path(argv[i]))) return true;
   return false;
 }
 
@@ -161,10 +163,12 @@ static int run_sequence_upscale(int argc, char** argv) {
       "ddtscale"};
   app.add_option("input", input,
                  "input frames, a printf-style pattern: %04d (zero-padded to 4 digits) or %d, e.g. shot/in_%04d.png; "
-                 "every frame OpenImageIO reads (PNG, TIFF, EXR, JPEG, ...), consecutive numbers, one size and type")
+                 "every frame OpenImageIO reads (PNG, TIFF, EXR, JPEG, ...), consecutive numbers, one size and type; "
+                 "or a video file (.mp4, .mov, .mkv, .webm, .m4v, .avi)")
       ->required();
   app.add_option("output", output,
-                 "output frames, a pattern too (e.g. out/out_%04d.png); the format follows its extension")
+                 "output frames, a pattern too (e.g. out/out_%04d.png; the format follows its extension), or a "
+                 "video file")
       ->required();
   app.add_option("-t,--time-scale", time_scale_text,
                  "frame-rate factor: a whole number N (T input frames become (T - 1) * N + 1, input frame k is "
@@ -206,6 +210,19 @@ static int run_sequence_upscale(int argc, char** argv) {
   app.add_flag("--exact-tiles", options.exact_tiles,
                "make the tiles' result the untiled one bit for bit: margins of whole slabs of the optimizer's "
                "schedule, widened as its phases need (several times the work on large frames)");
+  std::string fps_text = "24";
+  app.add_option("--fps", fps_text,
+                 "frame patterns into a video: the input's frames a second (e.g. 24 or 24000/1001); a video input "
+                 "has its own")
+      ->capture_default_str();
+  ddt::VideoEncoding video;
+  app.add_option("--crf", video.crf, "video output: quality, 0 (lossless) to 51 (FFmpeg's -crf; 18 looks like the input)")
+      ->check(whole_number(0, 51))
+      ->capture_default_str();
+  bool slow_motion = false;
+  app.add_flag("--slow-motion", slow_motion,
+               "video output: keep the input's frame rate, so the video lasts N times longer (no audio); by default "
+               "the rate is multiplied by N, the duration and the audio kept");
   app.add_option("--max-pixels", max_pixels, "refuse outputs with more pixels in all (frames x width x height)")
       ->check(whole_number(1))
       ->capture_default_str();
@@ -221,35 +238,65 @@ static int run_sequence_upscale(int argc, char** argv) {
       "Frames are written into a private directory beside the output and renamed into place only when all are\n"
       "written: a failed run leaves no output frame behind and replaces none; input frames are never replaced.\n"
       "Colour: one tetrahedrization for all channels, the cost summed over them (alpha included).\n"
-      "Example: ddtscale shot/in_%04d.png slow/out_%04d.png --time-scale 4");
+      "Video files (.mp4, .mov, .mkv, .webm, .m4v, .avi) work in place of either pattern, through FFmpeg.\n"
+      "Examples: ddtscale shot/in_%04d.png slow/out_%04d.png --time-scale 4\n"
+      "          ddtscale clip.mp4 clip_60fps.mp4 --time-scale 60/24");
   if (const auto status =
           parse_command_line(app, argc, argv, "ddtscale", "ddtscale in_%04d.png out_%04d.png --help"))
     return *status;
 
   try {
     ddt::find_cost(cost);
-    const ddt::FramePattern in_pattern = ddt::parse_frame_pattern(input);
-    const ddt::FramePattern out_pattern = ddt::parse_frame_pattern(output);
+    // Frames come from a pattern or a video file (FFmpeg), and go to either.
+    const bool video_in = !ddt::is_frame_pattern(input) && ddt::is_video_path(input);
+    const bool video_out = !ddt::is_frame_pattern(output) && ddt::is_video_path(output);
+    if (!video_in && !ddt::is_frame_pattern(input))
+      throw ddt::Error("the input '" + input + "' is neither a frame pattern (in_%04d.png) nor a video file");
+    if (!video_out && !ddt::is_frame_pattern(output))
+      throw ddt::Error("the output '" + output + "' is neither a frame pattern (out_%04d.png) nor a video file");
+    if (video_in && options.exact_tiles) throw ddt::Error("--exact-tiles needs frame files: a video is read once, in order");
     if (!(scale > 0) || !std::isfinite(scale)) throw ddt::Error("--scale must be a positive number");
     if (scale != 1 && !size_spec.empty()) throw ddt::Error("give either --scale or --size, not both");
-    const std::vector<int> numbers = ddt::find_frames(in_pattern);
-    const int first_number = numbers.front(), frames = static_cast<int>(numbers.size());
-    std::vector<std::string> input_paths;
-    for (int n : numbers) input_paths.push_back(in_pattern.path(n));
-    if (out_pattern.path(first_number) == in_pattern.path(first_number))
-      throw ddt::Error("the output pattern '" + output + "' names the input frames");
     const double time_scale = parse_ratio(time_scale_text, "--time-scale", 0, 1024);
+
+    std::optional<ddt::FramePattern> in_pattern;
+    std::vector<std::string> input_paths;
+    ddt::VideoInfo in_video;
+    int first_number = 1, frames = 0;
+    if (video_in) {
+      in_video = ddt::probe_video(input);
+      frames = in_video.frames;
+      input_paths.push_back(input);
+    } else {
+      in_pattern = ddt::parse_frame_pattern(input);
+      const std::vector<int> numbers = ddt::find_frames(*in_pattern);
+      first_number = numbers.front(), frames = static_cast<int>(numbers.size());
+      for (int n : numbers) input_paths.push_back(in_pattern->path(n));
+    }
     const int out_frames = ddt::sequence_output_frames(frames, time_scale);
-    // Any spelling of an input frame among the outputs is refused before the work.
-    std::vector<ddt::FileId> input_ids;
-    for (const std::string& path : input_paths)
-      if (const auto id = ddt::file_id(path)) input_ids.push_back(*id);
-    for (int k = 0; k < out_frames; ++k)
-      if (const auto id = ddt::file_id(out_pattern.path(first_number + k));
-          id && std::find(input_ids.begin(), input_ids.end(), *id) != input_ids.end())
-        throw ddt::Error("output frame '" + out_pattern.path(first_number + k) + "' is an input frame");
-    ddt::check_output_path(out_pattern.path(first_number), input_paths.front());
-    ddt::check_encode_options(out_pattern.path(first_number), writing.encode);
+    std::optional<ddt::FramePattern> out_pattern;
+    if (video_out) {
+      ddt::check_not_an_input(output, input_paths);
+      const double in_fps = video_in ? in_video.fps : parse_ratio(fps_text, "--fps", 0, 1000);
+      char rate[64];
+      std::snprintf(rate, sizeof rate, "%.6g", slow_motion ? in_fps : in_fps * time_scale);
+      video.rate = video_in && slow_motion ? in_video.rate : rate;
+      if (video_in && !slow_motion && in_video.audio) video.audio_from = input;
+    } else {
+      out_pattern = ddt::parse_frame_pattern(output);
+      if (in_pattern && out_pattern->path(first_number) == in_pattern->path(first_number))
+        throw ddt::Error("the output pattern '" + output + "' names the input frames");
+      // Any spelling of an input among the outputs is refused before the work.
+      std::vector<ddt::FileId> input_ids;
+      for (const std::string& path : input_paths)
+        if (const auto id = ddt::file_id(path)) input_ids.push_back(*id);
+      for (int k = 0; k < out_frames; ++k)
+        if (const auto id = ddt::file_id(out_pattern->path(first_number + k));
+            id && std::find(input_ids.begin(), input_ids.end(), *id) != input_ids.end())
+          throw ddt::Error("output frame '" + out_pattern->path(first_number + k) + "' is an input frame");
+      ddt::check_output_path(out_pattern->path(first_number), input_paths.front());
+      ddt::check_encode_options(out_pattern->path(first_number), writing.encode);
+    }
 
     auto log = [&](const std::string& line) {
       if (verbose) std::cerr << line << "\n";
@@ -260,30 +307,45 @@ static int run_sequence_upscale(int argc, char** argv) {
 
     // The first frame sizes the job: output size, writability, memory.
     int out_w = 0, out_h = 0;
-    ddt::ImageReadLimits limits;
-    limits.check = [&](const ddt::ImageHeader& h) {
+    auto size_job = [&](int width, int height, int channels) {
       if (!size_spec.empty()) {
         parse_width_height(size_spec, "--size", 1, 65536, out_w, out_h);
       } else {
-        out_w = static_cast<int>(std::max(1.0, std::round(h.width * scale)));
-        out_h = static_cast<int>(std::max(1.0, std::round(h.height * scale)));
+        out_w = static_cast<int>(std::max(1.0, std::round(width * scale)));
+        out_h = static_cast<int>(std::max(1.0, std::round(height * scale)));
       }
       ddt::check_size_limit("output", std::to_string(out_frames) + " frames of " + std::to_string(out_w) + "x" +
                                           std::to_string(out_h),
                             ddt::checked_product({out_frames, out_w, out_h}), max_pixels, "--max-pixels");
-      ddt::check_image_writable(out_pattern.path(first_number), out_w, out_h, h.channels, h.format, h.alpha_channel,
-                                writing.encode);
       const int tile = options.tile_frames > 0 ? options.tile_frames
-                                               : ddt::sequence_tile_frames(h.width, h.height, options.margin_frames);
-      ddt::check_memory_fits("this job", tile_bytes(h.width, h.height, h.channels, out_w, out_h,
-                                                    std::min(tile, frames), options.margin_frames, time_scale));
+                                               : ddt::sequence_tile_frames(width, height, options.margin_frames);
+      ddt::check_memory_fits("this job", tile_bytes(width, height, channels, out_w, out_h, std::min(tile, frames),
+                                                    options.margin_frames, time_scale));
+    };
+    ddt::ImageReadLimits limits;
+    limits.check = [&](const ddt::ImageHeader& h) {
+      size_job(h.width, h.height, h.channels);
+      if (out_pattern)
+        ddt::check_image_writable(out_pattern->path(first_number), out_w, out_h, h.channels, h.format,
+                                  h.alpha_channel, writing.encode);
     };
     auto t0 = ddt::Clock::now();
-    const ddt::ImageFile first = ddt::read_frame(in_pattern, first_number, nullptr, limits);
+    std::unique_ptr<ddt::VideoReader> reader;
+    ddt::ImageFile first;
+    if (video_in) {
+      size_job(in_video.width, in_video.height, 3);
+      reader = std::make_unique<ddt::VideoReader>(input, in_video);
+      first.image = reader->next();
+      first.format = ddt::SampleFormat::uint16;
+      first.alpha_channel = -1;
+    } else {
+      first = ddt::read_frame(*in_pattern, first_number, nullptr, limits);
+    }
     const int width = first.image.width, height = first.image.height, channels = first.image.channels;
-    log("read: " + std::to_string(frames) + " frames " + std::to_string(first_number) + ".." +
-        std::to_string(numbers.back()) + " of " + std::to_string(width) + "x" + std::to_string(height) + "x" +
-        std::to_string(channels));
+    log("read: " + std::to_string(frames) + " frames " +
+        (video_in ? "of " + input + " (" + in_video.rate + " a second" + (in_video.audio ? ", audio" : "") + ")"
+                  : std::to_string(first_number) + ".." + std::to_string(first_number + frames - 1)) +
+        " of " + std::to_string(width) + "x" + std::to_string(height) + "x" + std::to_string(channels));
     if (method == "ddt" && channels > ddt::max_cost_channels)
       throw ddt::Error("frames of " + std::to_string(channels) + " channels: the flip costs take at most " +
                        std::to_string(ddt::max_cost_channels));
@@ -307,17 +369,31 @@ static int run_sequence_upscale(int argc, char** argv) {
 
     const OIIO::ParamValueList metadata =
         ddt::scaled_metadata(first.metadata, double(out_w) / width, double(out_h) / height);
-    ddt::FrameSequenceWriter writer(out_pattern, first.format, first.alpha_channel, &metadata, writing.encode,
-                                    input_paths);
+    std::unique_ptr<ddt::FrameSequenceWriter> frame_writer;
+    std::unique_ptr<ddt::VideoWriter> video_writer;
+    if (video_out) {
+      video_writer = std::make_unique<ddt::VideoWriter>(output, out_w, out_h, video, input_paths);
+    } else {
+      frame_writer = std::make_unique<ddt::FrameSequenceWriter>(*out_pattern, first.format, first.alpha_channel,
+                                                                &metadata, writing.encode, input_paths);
+    }
+    int next_frame = 1;  // of a video: read once, in order
     auto read = [&](int k) {
       if (k == 0) return first.image;
-      return ddt::read_frame(in_pattern, first_number + k, &first).image;
+      if (!reader) return ddt::read_frame(*in_pattern, first_number + k, &first).image;
+      if (k != next_frame) throw ddt::Error("a video's frames are read in order");
+      ++next_frame;
+      return reader->next();
     };
-    auto write = [&](ddt::Image frame, int k) { writer.write(first_number + k, frame); };
+    auto write = [&](ddt::Image frame, int k) {
+      if (video_writer) video_writer->write(frame);
+      else frame_writer->write(first_number + k, frame);
+    };
     ddt::SequenceUpscaleStats stats;
     ddt::upscale_sequence(frames, width, height, channels, read, out_w, out_h, time_scale, options, write, &stats);
     t0 = ddt::Clock::now();
-    writer.commit();
+    if (video_writer) video_writer->commit();
+    else frame_writer->commit();
     if (bar) bar->stop();
     struct rusage ru {};
     getrusage(RUSAGE_SELF, &ru);
@@ -329,8 +405,10 @@ static int run_sequence_upscale(int argc, char** argv) {
                   stats.seconds_render, stats.seconds_write + ddt::seconds_since(t0), ru.ru_maxrss / 1024.0);
     log(line);
     if (!quiet && !verbose)
-      std::cerr << out_pattern.path(first_number) << " .. " << out_pattern.path(first_number + out_frames - 1) << ": "
-                << out_frames << " frames of " << out_w << "x" << out_h << "\n";
+      std::cerr << (video_out ? output + " (" + video.rate + " frames a second)"
+                              : out_pattern->path(first_number) + " .. " +
+                                    out_pattern->path(first_number + out_frames - 1))
+                << ": " << out_frames << " frames of " << out_w << "x" << out_h << "\n";
     return 0;
   } catch (const std::bad_alloc&) {
     std::cerr << "ddtscale: out of memory (try a smaller --time-tile)\n";

@@ -102,5 +102,35 @@ else
 fi
 run_fail "sequence-eval bad scene" sequence-eval --scenes nope --size 24 --frames 3 -q
 
+# Video files in and out through FFmpeg (setup.sh installs it).
+if command -v ffmpeg >/dev/null && command -v ffprobe >/dev/null; then
+  probe() { ffprobe -v error -count_packets -select_streams "$2" -show_entries stream="$3" -of csv=p=0 "$1"; }
+  mkdir -p "$work/video"
+  ffmpeg -v error -f lavfi -i testsrc2=size=48x32:rate=12 -f lavfi -i sine=frequency=440:sample_rate=8000 -t 1 \
+    -c:v libx264 -pix_fmt yuv420p -c:a aac -shortest "$work/video/in.mp4"
+  run_ok "video x2" "$work/video/in.mp4" "$work/video/out.mp4" --time-scale 2
+  [ "$(probe "$work/video/out.mp4" v:0 nb_read_packets,r_frame_rate)" = "24/1,23" ] && ok ||
+    bad "video x2: $(probe "$work/video/out.mp4" v:0 nb_read_packets,r_frame_rate), not 23 frames at 24/1"
+  [ -n "$(probe "$work/video/out.mp4" a nb_read_packets)" ] && ok || bad "video x2 lost the audio"
+  run_ok "video slow motion" "$work/video/in.mp4" "$work/video/slow.mkv" --time-scale 3 --slow-motion --scale 2
+  [ "$(probe "$work/video/slow.mkv" v:0 width,r_frame_rate,nb_read_packets)" = "96,12/1,34" ] && ok ||
+    bad "slow motion: $(probe "$work/video/slow.mkv" v:0 width,r_frame_rate,nb_read_packets)"
+  [ -z "$(probe "$work/video/slow.mkv" a nb_read_packets)" ] && ok || bad "slow motion kept the audio"
+  run_ok "video to frames" "$work/video/in.mp4" "$work/video/f_%03d.png" --time-scale 5/2
+  [ "$(count "$work/video" 'f_*.png')" -eq 28 ] && ok || bad "video to frames: $(count "$work/video" 'f_*.png'), not 28"
+  run_ok "frames to video" "$work/in/in_%04d.png" "$work/video/from_frames.webm" --time-scale 2 --fps 30
+  [ "$(probe "$work/video/from_frames.webm" v:0 r_frame_rate,nb_read_packets)" = "60/1,5" ] && ok ||
+    bad "frames to video: $(probe "$work/video/from_frames.webm" v:0 r_frame_rate,nb_read_packets)"
+  echo "not a video" >"$work/video/fake.mp4"
+  run_fail "not a video" "$work/video/fake.mp4" "$work/video/x.mp4" --time-scale 2
+  run_fail "video onto itself" "$work/video/in.mp4" "$work/video/in.mp4" --time-scale 2
+  run_fail "exact tiles of a video" "$work/video/in.mp4" "$work/video/x.mp4" --time-scale 2 --exact-tiles
+  run_fail "bad crf" "$work/video/in.mp4" "$work/video/x.mp4" --time-scale 2 --crf 99
+  [ -e "$work/video/x.mp4" ] && bad "a failed run left x.mp4" || ok
+  ls -a "$work/video" | grep -q '\.ddtscale-' && bad "a temporary directory left behind" || ok
+else
+  echo "cli_sequence_test: no ffmpeg, video files not checked"
+fi
+
 echo "cli_sequence_test: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

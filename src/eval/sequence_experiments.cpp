@@ -3,13 +3,11 @@
 #include "eval/sequence_scenes.hpp"
 #include "io/frame_sequence.hpp"
 #include "io/image_io.hpp"
+#include "util/child_process.hpp"
 #include "util/error.hpp"
 #include "util/timing.hpp"
 #include "volume/sequence_upscale.hpp"
 
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
 
 #include <algorithm>
 #include <cmath>
@@ -19,7 +17,6 @@
 #include <limits>
 #include <numeric>
 
-extern char** environ;
 
 namespace fs = std::filesystem;
 
@@ -54,25 +51,6 @@ struct TemporaryDirectory {
     fs::remove_all(path, ec);
   }
 };
-
-// Runs `args` (args[0] looked up on PATH) with its output discarded; the
-// exit status, or -1 when it could not start.
-int run_program(const std::vector<std::string>& args) {
-  std::vector<char*> argv;
-  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, 2, "/dev/null", O_WRONLY, 0);
-  pid_t pid = 0;
-  const int started = posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (started != 0) return -1;
-  int status = 0;
-  if (::waitpid(pid, &status, 0) != pid) return -1;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
 
 bool have_program(const std::string& program) { return run_program({program, "-version"}) == 0; }
 

@@ -68,8 +68,8 @@ def test_options_match_the_command_line(cli):
     out = subprocess.run([cli, "in_%04d.png", "out_%04d.png", "--help"], capture_output=True, text=True,
                          check=True).stdout
     flags = set(re.findall(r"^\s+(?:-\w,)?--([a-z][a-z0-9-]*)", out, re.MULTILINE))
-    # positional or per call: time-scale, scale, size; how files are encoded
+    # positional or per call: time-scale, scale, size; how files and videos are encoded
     not_keywords = {"help", "time-scale", "scale", "size", "compression", "quality", "half", "float", "tile-size",
-                    "quiet"}
+                    "quiet", "fps", "crf", "slow-motion"}
     assert flags - not_keywords == {k.replace("_", "-") for k in ddtscale.SEQUENCE_OPTIONS}
     assert ddtscale.upscale_sequence.__doc__ and "presmooth" in ddtscale.upscale_sequence.__doc__
