@@ -52,7 +52,9 @@ void upscale_in_tiles(const std::array<int, 4>& in, const std::array<int, 4>& ou
   const bool node = options.node_centred[axis] && in[axis] > 1;
   const int n = in[axis];
   const std::array<int, 4> problem = mesh_problem_size(in);
-  const bool mesh_problem = problem[2] > 1;  // a 3D (or 4D) mesh: windows along the last axis, slabs
+  // A 3D (or 4D) mesh: windows along the last axis, slabs (a thin axis among
+  // three makes it the 2D method's).
+  const bool mesh_problem = problem[0] > 1 && problem[1] > 1 && problem[2] > 1;
   // Units tiled: the n - 1 intervals between node-centred slices, or the n cells.
   const int units = node ? n - 1 : n;
   double scale = tiling.axis_scale;

@@ -111,4 +111,13 @@ TEST_CASE("upscale_in_tiles: the margin needed grows with the phases; bad scales
   CHECK_THROWS_WITH_AS(tiled(v, {9, 9, 9, 1}, {}, tiling), doctest::Contains("whole scale along z"), Error);
   tiling.margin_slices = -1;
   CHECK_THROWS_AS(tiled(v, {12, 12, 12, 1}, {}, tiling), Error);
+  // A thin axis makes it the 2D method's problem: enlarged whole, one tile.
+  Volume thin({1, 6, 10, 1}, 1, 0.0f);
+  for (std::size_t i = 0; i < thin.voxels.size(); ++i) thin.voxels[i] = float(i % 7) / 7;
+  tiling.margin_slices = 1;
+  VolumeTilingStats stats;
+  CHECK(tiled(thin, {2, 12, 20, 1}, {}, tiling, &stats).voxels == upscale_volume(thin, {2, 12, 20, 1}).voxels);
+  CHECK(stats.tiles == 1);
+  tiling.axis_scale = 2.5;
+  CHECK_THROWS_WITH_AS(tiled(thin, {2, 12, 25, 1}, {}, tiling), doctest::Contains("fractional scale"), Error);
 }
