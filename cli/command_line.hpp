@@ -24,3 +24,7 @@ void parse_width_height(const std::string& text, const std::string& option, int 
 // "X" or "A/B" (a frame-rate ratio, e.g. 60/24 or 30000/1001), in (lo, hi];
 // throws ddt::Error naming `option`.
 double parse_ratio(const std::string& text, const std::string& option, double lo, double hi);
+// A frame rate `rate` times `factor` (both as parse_ratio reads them) as
+// FFmpeg takes it, an exact ratio where both are ("24000/1001" x "5/2" is
+// "12000/1001"; "24" x "2.5" is "60").
+std::string rate_text(const std::string& rate, const std::string& factor);

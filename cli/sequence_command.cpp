@@ -85,10 +85,9 @@ static int run_sequence_eval(int argc, char** argv) {
   try {
     if (!size_spec.empty()) parse_width_height(size_spec, "--size", 4, 4096, options.width, options.height);
     {
-      char extra = 0;
-      int p = 0, q = 1;
-      const int n = std::sscanf(eval_time_scale.c_str(), "%d/%d%c", &p, &q, &extra);
-      if ((n != 1 && n != 2) || q < 1 || p <= q || p > 64)
+      int p = 0, q = 1, used = 0;
+      const int n = std::sscanf(eval_time_scale.c_str(), "%d%n/%d%n", &p, &used, &q, &used);
+      if (n < 1 || static_cast<std::size_t>(used) != eval_time_scale.size() || q < 1 || p <= q || p > 64)
         throw ddt::Error("--time-scale wants P or P/Q, whole numbers with Q < P <= 64, got '" + eval_time_scale + "'");
       options.time_scale = p, options.output_step = q;
     }
@@ -277,10 +276,9 @@ static int run_sequence_upscale(int argc, char** argv) {
     std::optional<ddt::FramePattern> out_pattern;
     if (video_out) {
       ddt::check_not_an_input(output, input_paths);
-      const double in_fps = video_in ? in_video.fps : parse_ratio(fps_text, "--fps", 0, 1000);
-      char rate[64];
-      std::snprintf(rate, sizeof rate, "%.6g", slow_motion ? in_fps : in_fps * time_scale);
-      video.rate = video_in && slow_motion ? in_video.rate : rate;
+      const std::string in_rate = video_in ? in_video.rate : fps_text;
+      parse_ratio(in_rate, "--fps", 0, 1000);
+      video.rate = slow_motion ? in_rate : rate_text(in_rate, time_scale_text);
       if (video_in && !slow_motion && in_video.audio) video.audio_from = input;
     } else {
       out_pattern = ddt::parse_frame_pattern(output);

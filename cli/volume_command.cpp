@@ -155,7 +155,7 @@ int run_volume_upscale(int argc, char** argv) {
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
   ddt::VolumeTiling tiling;
-  tiling.margin_slices = 0;
+  tiling.margin_slices = -1;  // unset
   app.add_option("--tile-slices,--time-tile", tiling.tile_slices,
                  "reconstruct N input slices of the last axis at a time (z of a 3D volume, time steps of a series), "
                  "plus margins on either side, which bounds the mesh's memory; the result is the untiled one bit for "
@@ -163,8 +163,9 @@ int run_volume_upscale(int argc, char** argv) {
                  "along that axis (default: the whole volume)")
       ->check(whole_number(1));
   app.add_option("--tile-margin,--time-margin", tiling.margin_slices,
-                 "with --tile-slices: slices reconstructed on either side of a tile (the least; with --loose-tiles, "
-                 "exactly); default: one slab of the optimizer's schedule")
+                 "with --tile-slices: slices reconstructed on either side of a tile: with --loose-tiles exactly this "
+                 "(default 4); else the least, whole slabs of the optimizer's schedule (from what 3 of its phases "
+                 "need, widened as it needs more)")
       ->check(whole_number(0, 100000));
   bool loose_tiles = false;
   app.add_flag("--loose-tiles", loose_tiles,
@@ -274,7 +275,8 @@ int run_volume_upscale(int argc, char** argv) {
       const double slice_voxels = in_voxels / in[axis];
       // A tile's mesh: its slices and its margins (loose, or the first guess of exact ones).
       auto tile_voxels = [&](int slices) {
-        return std::min(in_voxels, slice_voxels * (slices + 2.0 * std::max(tiling.margin_slices, loose_tiles ? 4 : 48)));
+        const int margin = tiling.margin_slices >= 0 ? tiling.margin_slices : 4;
+        return std::min(in_voxels, slice_voxels * (slices + 2.0 * (loose_tiles ? margin : std::max(margin, 48))));
       };
       const double mesh_voxels = tiling.tile_slices > 0 ? tile_voxels(tiling.tile_slices) : in_voxels;
       const double bytes = volume_job_bytes(volume_method, compare.size(), in_voxels, mesh_voxels, out_voxels, channels, series);
@@ -334,7 +336,7 @@ int run_volume_upscale(int argc, char** argv) {
       // written at once), the mesh a tile at a time.
       if (!ddt::is_mesh_method(volume_method)) throw ddt::Error("--tile-slices applies to the ddt and delaunay methods");
       tiling.exact = !loose_tiles;
-      if (loose_tiles && tiling.margin_slices == 0) tiling.margin_slices = 4;
+      if (tiling.margin_slices < 0) tiling.margin_slices = loose_tiles ? 4 : 0;
       result = ddt::Volume(out, src.channels, 0.0f);
       const int axis = series ? 3 : 2;
       const std::size_t in_slice = src.voxels.size() / src.size()[axis];

@@ -74,6 +74,8 @@ grep -q "is an input frame" "$work/err.txt" && ok || bad "another spelling of th
 run_fail "time scale 0" "$work/in/in_%04d.png" "$work/out/z_%04d.png" --time-scale 0
 run_fail "time scale over zero" "$work/in/in_%04d.png" "$work/out/z_%04d.png" --time-scale 5/0
 run_fail "time scale not a number" "$work/in/in_%04d.png" "$work/out/z_%04d.png" --time-scale fast
+run_fail "time scale with a comma" "$work/in/in_%04d.png" "$work/out/z_%04d.png" --time-scale 2,5
+run_fail "time scale half a ratio" "$work/in/in_%04d.png" "$work/out/z_%04d.png" --time-scale 60/
 run_fail "two numbers" "$work/in/in_%04d_%d.png" "$work/out/z_%04d.png" --time-scale 2
 run_fail "no extension" "$work/in/in_%04d.png" "$work/out/z_%04d" --time-scale 2
 cp "$work/in/in_0003.png" "$work/in/in_0005.png"
@@ -121,6 +123,12 @@ if command -v ffmpeg >/dev/null && command -v ffprobe >/dev/null; then
   run_ok "frames to video" "$work/in/in_%04d.png" "$work/video/from_frames.webm" --time-scale 2 --fps 30
   [ "$(probe "$work/video/from_frames.webm" v:0 r_frame_rate,nb_read_packets)" = "60/1,5" ] && ok ||
     bad "frames to video: $(probe "$work/video/from_frames.webm" v:0 r_frame_rate,nb_read_packets)"
+  run_ok "video to webm, audio encoded" "$work/video/in.mp4" "$work/video/out.webm" --time-scale 2
+  [ -n "$(probe "$work/video/out.webm" a nb_read_packets)" ] && ok || bad "webm lost the audio"
+  run_ok "an exact NTSC rate" "$work/in/in_%04d.png" "$work/video/ntsc.mp4" --time-scale 2 --fps 30000/1001
+  [ "$(probe "$work/video/ntsc.mp4" v:0 r_frame_rate)" = "60000/1001" ] && ok ||
+    bad "30000/1001 x 2: $(probe "$work/video/ntsc.mp4" v:0 r_frame_rate)"
+  run_fail "odd size in 4:2:0" "$work/video/in.mp4" "$work/video/x.mp4" --time-scale 2 --size 33x33
   echo "not a video" >"$work/video/fake.mp4"
   run_fail "not a video" "$work/video/fake.mp4" "$work/video/x.mp4" --time-scale 2
   run_fail "video onto itself" "$work/video/in.mp4" "$work/video/in.mp4" --time-scale 2

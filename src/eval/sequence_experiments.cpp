@@ -218,7 +218,7 @@ std::vector<SequenceExperimentRow> run_sequence_experiments(const SequenceExperi
     }
     if (!o.picture_dir.empty()) {
       // The made frame nearest halfway after the middle kept frame.
-      const int t = static_cast<int>(std::lround(((o.input_frames / 2) * p + p / 2.0) / q));
+      const int t = std::min(made_count - 1, static_cast<int>(std::lround(((o.input_frames / 2) * p + p / 2.0) / q)));
       std::vector<Image> frames, slices;
       for (const auto& seq : shown) frames.push_back(seq[t]), slices.push_back(xt_slice(seq, o.height / 2));
       const fs::path dir(o.picture_dir);

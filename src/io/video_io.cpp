@@ -59,6 +59,22 @@ VideoInfo probe_video(const std::string& path) {
     if (key == "r_frame_rate") info.rate = value;
   }
   info.fps = rate_value(info.rate);
+  // FFmpeg turns frames tagged as rotated by a quarter turn upright: the
+  // frames it decodes are then height x width.
+  try {
+    const std::string rotation =
+        program_output({"ffprobe", "-v", "error", "-select_streams", "v:0", "-show_entries",
+                        "stream_side_data=rotation:stream_tags=rotate", "-of", "default=noprint_wrappers=1:nokey=1",
+                        path});
+    std::istringstream values(rotation);
+    double degrees = 0;
+    while (values >> degrees)
+      if (std::lround(std::abs(degrees)) % 180 == 90) {
+        std::swap(info.width, info.height);
+        break;
+      }
+  } catch (const Error&) {
+  }
   if (info.width < 1 || info.height < 1 || info.frames < 1 || !(info.fps > 0))
     throw Error("cannot read video '" + path + "': no video stream with frames");
   try {
@@ -98,17 +114,23 @@ VideoWriter::VideoWriter(const std::string& path, int width, int height, const V
   if (!is_video_path(path))
     throw Error("cannot write video '" + path + "': use .mp4, .m4v, .mov, .mkv, .webm or .avi");
   if (encoding.crf < 0 || encoding.crf > 51) throw Error("--crf must be between 0 and 51");
+  const std::string ext = lower_extension(path);
+  const bool subsampled = ext == ".mp4" || ext == ".m4v" || ext == ".mov" || ext == ".mkv" || ext == ".webm";
+  if (subsampled && (width % 2 || height % 2))
+    throw Error("cannot write video '" + path + "': " + std::to_string(width) + "x" + std::to_string(height) +
+                " is odd, and 4:2:0 video needs an even width and height (give --size with even numbers)");
   for (const std::string& input : inputs)
     if (const auto id = file_id(input)) keep_.push_back(*id);
   check_not_an_input(path, inputs);
   staged_ = std::make_unique<StagedOutput>(path);
   name_ = staged_->target().filename().string();
-  const std::string ext = lower_extension(path);
   std::vector<std::string> args = {"ffmpeg",         "-v",      "error", "-nostdin", "-y", "-f", "rawvideo", "-pix_fmt",
                                    "rgb48le",        "-s",      std::to_string(width) + "x" + std::to_string(height),
                                    "-framerate",     encoding.rate, "-i", "-"};
   if (!encoding.audio_from.empty())
-    args.insert(args.end(), {"-i", encoding.audio_from, "-map", "0:v", "-map", "1:a?", "-c:a", "copy", "-shortest"});
+    // Copied into Matroska, which takes any codec; else encoded as the container expects.
+    args.insert(args.end(), {"-i", encoding.audio_from, "-map", "0:v", "-map", "1:a?", "-c:a",
+                             ext == ".mkv" ? "copy" : ext == ".webm" ? "libopus" : ext == ".avi" ? "libmp3lame" : "aac"});
   if (ext == ".mp4" || ext == ".m4v" || ext == ".mov" || ext == ".mkv")
     args.insert(args.end(), {"-crf", std::to_string(encoding.crf), "-pix_fmt", "yuv420p"});
   if (ext == ".webm") args.insert(args.end(), {"-crf", std::to_string(encoding.crf), "-b:v", "0"});

@@ -6,17 +6,20 @@
 // (volume/sequence_upscale.hpp reads each input frame once, in order, and
 // writes the output frames in order).
 //
-// Reading: probe_video() asks ffprobe for the first video stream's size,
-// frame rate and frame count (counted by packets, exact for the containers
-// we know), and whether there is audio; VideoReader decodes the frames as
+// Reading: probe_video() asks ffprobe for the first video stream's size
+// (as displayed: swapped when it is tagged as turned a quarter), frame
+// rate and frame count (counted by packets, exact for the containers we
+// know), and whether there is audio; VideoReader decodes the frames as
 // RGB, 0..1 floats (16-bit, so 10- and 12-bit sources keep their depth).
 //
 // Writing: VideoWriter encodes RGB frames at a given rate into the output's
 // container (from its extension) with FFmpeg's default codec for it
-// (H.264 in .mp4/.mkv/.mov, VP9 in .webm), quality `crf`, into a staged
-// file (io/safe_file.hpp) renamed into place by commit(); optionally with
-// the audio of another file copied (same duration: a frame-rate
-// conversion). Without commit() nothing is left behind.
+// (H.264 in .mp4/.mkv/.mov, VP9 in .webm; 4:2:0, so even sizes), quality
+// `crf`, into a staged file (io/safe_file.hpp) renamed into place by
+// commit(); optionally with the audio of another file (a frame-rate
+// conversion keeps the duration): copied into .mkv, encoded as AAC (Opus
+// in .webm, MP3 in .avi) elsewhere. Without commit() nothing is left
+// behind.
 //
 // Errors: ddt::Error with FFmpeg's last message line (a missing program,
 // a file that is not a video, an encoder that fails).

@@ -5,7 +5,7 @@
 #include <cerrno>
 #include <csignal>
 #include <cstdlib>
-#include <fstream>
+#include <sstream>
 
 #include <fcntl.h>
 #include <spawn.h>
@@ -18,13 +18,17 @@ namespace ddt {
 
 ChildProcess::ChildProcess(const std::vector<std::string>& args, Pipe pipe) {
   if (args.empty()) throw Error("no program to run");
+  // The messages go to a file with no name (unlinked at once, so nothing
+  // is left behind whatever ends us), read back through our descriptor.
   std::string name = "/tmp/ddtscale-stderr-XXXXXX";
-  const int err = ::mkstemp(name.data());
+  const int err = ::mkostemp(name.data(), O_CLOEXEC);
   if (err < 0) throw Error("cannot make a temporary file for " + args[0] + "'s messages");
-  stderr_path_ = name;
+  ::unlink(name.c_str());
+  stderr_fd_ = err;
   int fds[2] = {-1, -1};
   if (pipe != Pipe::none && ::pipe2(fds, O_CLOEXEC) != 0) {
     ::close(err);
+    stderr_fd_ = -1;
     throw Error("cannot make a pipe to " + args[0]);
   }
   posix_spawn_file_actions_t actions;
@@ -45,12 +49,11 @@ ChildProcess::ChildProcess(const std::vector<std::string>& args, Pipe pipe) {
   argv.push_back(nullptr);
   const int started = posix_spawnp(&pid_, argv[0], &actions, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
-  ::close(err);
   if (pipe == Pipe::to_stdin) ::close(fds[0]), fd_ = fds[1];
   if (pipe == Pipe::from_stdout) ::close(fds[1]), fd_ = fds[0];
   if (started != 0) {
     if (fd_ >= 0) ::close(fd_);
-    ::unlink(stderr_path_.c_str());
+    ::close(stderr_fd_);
     pid_ = -1;
     throw Error("cannot run '" + args[0] + "' (is it installed?)");
   }
@@ -63,7 +66,7 @@ ChildProcess::~ChildProcess() {
     int status = 0;
     ::waitpid(pid_, &status, 0);
   }
-  ::unlink(stderr_path_.c_str());
+  if (stderr_fd_ >= 0) ::close(stderr_fd_);
 }
 
 std::size_t ChildProcess::read_some(void* data, std::size_t bytes) {
@@ -120,8 +123,16 @@ int ChildProcess::wait() {
 }
 
 std::string ChildProcess::last_error_line() const {
-  std::ifstream in(stderr_path_);
+  std::string text;
+  char block[4096];
+  for (off_t at = 0;;) {
+    const ssize_t n = ::pread(stderr_fd_, block, sizeof block, at);
+    if (n <= 0) break;
+    text.append(block, static_cast<std::size_t>(n));
+    at += n;
+  }
   std::string line, last;
+  std::istringstream in(text);
   while (std::getline(in, line))
     if (!line.empty()) last = line;
   return last;

@@ -2,7 +2,7 @@
 // ddt::ChildProcess — a program run beside ours (posix_spawnp: looked up on
 // PATH, no shell, so paths need no quoting), optionally with a pipe to its
 // standard input or from its standard output; its standard error goes to
-// a private temporary file, whose last line explains a failure. What the
+// an unnamed temporary file, whose last line explains a failure. What the
 // video path runs FFmpeg with (io/video_io.hpp), and the experiments their
 // peers.
 //
@@ -40,7 +40,7 @@ class ChildProcess {
  private:
   pid_t pid_ = -1;
   int fd_ = -1;
-  std::string stderr_path_;
+  int stderr_fd_ = -1;
   bool waited_ = false;
 };
 

@@ -48,6 +48,8 @@ void upscale_in_tiles(const std::array<int, 4>& in, const std::array<int, 4>& ou
     if (in[a] < 1 || out[a] < 1) throw Error("the input and the output must have at least one sample on every axis");
   if (channels < 1) throw Error("the volume has no channels");
   if (tiling.margin_slices < 0) throw Error("the tile margin must be at least 0 slices");
+  if (!is_mesh_method(options.method))
+    throw Error(std::string("tiles are for the ddt and delaunay methods, not ") + to_string(options.method));
   const int axis = in[3] > 1 ? 3 : 2;
   const bool node = options.node_centred[axis] && in[axis] > 1;
   const int n = in[axis];
@@ -89,7 +91,8 @@ void upscale_in_tiles(const std::array<int, 4>& in, const std::array<int, 4>& ou
   const bool slabbed = tiling.exact;
   int tile = tiling.tile_slices > 0 ? tiling.tile_slices
                                     : default_tile_slices(static_cast<long long>(in_slice / channels), tiling.margin_slices);
-  int margin = tiling.margin_slices;
+  tile = std::min(tile, units);  // and so are the margins below: no overflow on rounding up
+  int margin = std::min(tiling.margin_slices, units);
   VolumeUpscaleOptions o = options;
   int region = 0;
   if (slabbed) {
