@@ -47,7 +47,6 @@ std::string number_text(double v) {
   std::snprintf(text, sizeof text, "%g", v);
   return text;
 }
-}  // namespace
 
 // "A" or "A/B", the whole text read.
 bool read_ratio(const std::string& text, double& a, double& b) {
@@ -61,6 +60,7 @@ bool read_ratio(const std::string& text, double& a, double& b) {
   }
   return static_cast<std::size_t>(used) == text.size();
 }
+}  // namespace
 
 std::string rate_text(const std::string& rate, const std::string& factor) {
   // Exact when both are whole numbers or ratios of them (decimals as tenths, hundredths...).

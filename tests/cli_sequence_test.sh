@@ -129,6 +129,10 @@ if command -v ffmpeg >/dev/null && command -v ffprobe >/dev/null; then
   [ "$(probe "$work/video/ntsc.mp4" v:0 r_frame_rate)" = "60000/1001" ] && ok ||
     bad "30000/1001 x 2: $(probe "$work/video/ntsc.mp4" v:0 r_frame_rate)"
   run_fail "odd size in 4:2:0" "$work/video/in.mp4" "$work/video/x.mp4" --time-scale 2 --size 33x33
+  ffmpeg -v error -i "$work/video/in.mp4" -metadata:s:v:0 rotate=90 -c copy "$work/video/turned.mp4"
+  run_ok "a video turned a quarter" "$work/video/turned.mp4" "$work/video/upright.mp4" --time-scale 2
+  [ "$(probe "$work/video/upright.mp4" v:0 width,height)" = "32,48" ] && ok ||
+    bad "turned video: $(probe "$work/video/upright.mp4" v:0 width,height), not 32x48 upright"
   echo "not a video" >"$work/video/fake.mp4"
   run_fail "not a video" "$work/video/fake.mp4" "$work/video/x.mp4" --time-scale 2
   run_fail "video onto itself" "$work/video/in.mp4" "$work/video/in.mp4" --time-scale 2

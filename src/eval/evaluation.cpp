@@ -1,4 +1,5 @@
 #include "eval/evaluation.hpp"
+#include "util/file_names.hpp"
 
 #include "eval/classic_resize.hpp"
 #include "core/costs.hpp"
@@ -236,8 +237,7 @@ std::vector<std::string> list_images(const std::string& dir) {
   if (ec) throw Error("cannot list '" + dir + "': " + ec.message());
   for (const auto& entry : it) {
     if (!entry.is_regular_file(ec)) continue;
-    std::string ext = entry.path().extension().string();
-    for (auto& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    const std::string ext = lower_extension(entry.path().string());
     if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" || ext == ".tif" || ext == ".tiff")
       files.push_back(entry.path().string());
   }

@@ -1,4 +1,5 @@
 #include "image/mesh_view.hpp"
+#include "util/file_names.hpp"
 
 #include "util/error.hpp"
 #include "io/image_io.hpp"
@@ -106,8 +107,7 @@ void write_mesh_view(const std::string& path, const Mesh2& mesh, const Mesh2* in
   check_region(roi, image.width, image.height);
   const Image pixels = region_rgb(image, roi, image.channels == 4 ? 3 : image.channels == 2 ? 1 : -1);
   const EdgeLists edges = visible_edges(mesh, initial, roi);
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char ch) { return std::tolower(ch); });
+  const std::string ext = lower_extension(path);
 
   if (ext == ".svg") {
     const std::vector<unsigned char> png = encode_png(pixels);

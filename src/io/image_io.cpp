@@ -1,4 +1,5 @@
 #include "io/image_io.hpp"
+#include "util/file_names.hpp"
 
 #include "io/oiio_output.hpp"
 #include "util/error.hpp"
@@ -37,12 +38,6 @@ SampleFormat sample_format_of(const OIIO::TypeDesc& t) {
     case OIIO::TypeDesc::HALF: return SampleFormat::half;
     default: return SampleFormat::float32;
   }
-}
-
-std::string lower_extension(const std::string& path) {
-  std::string ext = fs::path(path).extension().string();
-  for (auto& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  return ext;
 }
 
 OIIO::TypeDesc output_type(const std::string& path, SampleFormat source, const OIIO::ImageOutput& out) {

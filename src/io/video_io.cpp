@@ -1,4 +1,5 @@
 #include "io/video_io.hpp"
+#include "util/file_names.hpp"
 
 #include "util/error.hpp"
 
@@ -11,12 +12,6 @@ namespace fs = std::filesystem;
 
 namespace ddt {
 namespace {
-
-std::string lower_extension(const std::string& path) {
-  std::string ext = fs::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return ext;
-}
 
 // "24000/1001" or "25" as a number; 0 when it is not one.
 double rate_value(const std::string& rate) {
@@ -41,12 +36,14 @@ VideoInfo probe_video(const std::string& path) {
   std::string text;
   try {
     text = program_output({"ffprobe", "-v", "error", "-select_streams", "v:0", "-count_packets", "-show_entries",
-                           "stream=width,height,r_frame_rate,nb_read_packets", "-of", "default=noprint_wrappers=1",
+                           "stream=width,height,r_frame_rate,nb_read_packets:stream_side_data=rotation:stream_tags=rotate",
+                           "-of", "default=noprint_wrappers=1",
                            path});
   } catch (const Error& e) {
     throw Error("cannot read video '" + path + "': " + e.what());
   }
   VideoInfo info;
+  bool quarter_turn = false;
   std::istringstream lines(text);
   std::string line;
   while (std::getline(lines, line)) {
@@ -57,24 +54,13 @@ VideoInfo probe_video(const std::string& path) {
     if (key == "height") info.height = std::atoi(value.c_str());
     if (key == "nb_read_packets") info.frames = std::atoi(value.c_str());
     if (key == "r_frame_rate") info.rate = value;
+    if (key == "rotation" || key == "TAG:rotate")
+      quarter_turn |= std::lround(std::abs(std::atof(value.c_str()))) % 180 == 90;
   }
   info.fps = rate_value(info.rate);
   // FFmpeg turns frames tagged as rotated by a quarter turn upright: the
   // frames it decodes are then height x width.
-  try {
-    const std::string rotation =
-        program_output({"ffprobe", "-v", "error", "-select_streams", "v:0", "-show_entries",
-                        "stream_side_data=rotation:stream_tags=rotate", "-of", "default=noprint_wrappers=1:nokey=1",
-                        path});
-    std::istringstream values(rotation);
-    double degrees = 0;
-    while (values >> degrees)
-      if (std::lround(std::abs(degrees)) % 180 == 90) {
-        std::swap(info.width, info.height);
-        break;
-      }
-  } catch (const Error&) {
-  }
+  if (quarter_turn) std::swap(info.width, info.height);
   if (info.width < 1 || info.height < 1 || info.frames < 1 || !(info.fps > 0))
     throw Error("cannot read video '" + path + "': no video stream with frames");
   try {

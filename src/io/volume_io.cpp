@@ -1,4 +1,5 @@
 #include "io/volume_io.hpp"
+#include "util/file_names.hpp"
 
 #include "util/error.hpp"
 #include "io/safe_file.hpp"
@@ -90,12 +91,6 @@ std::string teem_error() {
   if (line.rfind("[", 0) == 0 && colon != std::string::npos) line = line.substr(colon + 2);
   while (!line.empty() && line.front() == ' ') line.erase(line.begin());
   return line.empty() ? "unknown NRRD error" : line;
-}
-
-std::string lower_extension(const std::string& path) {
-  std::string ext = fs::path(path).extension().string();
-  for (auto& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  return ext;
 }
 
 // "%d", "%03d", ...: the one conversion a data file format may hold (the

@@ -12,14 +12,9 @@ namespace {
 
 int round_up(int value, int multiple) { return (value + multiple - 1) / multiple * multiple; }
 
-// The sizes the mesh reconstruction sees (volume_upscale.cpp): axes of one
-// sample dropped while three remain, x, y, z, t order kept.
+// The sizes the mesh reconstruction sees, x, y, z, t order kept.
 std::array<int, 4> mesh_problem_size(const std::array<int, 4>& in) {
-  std::array<bool, 4> keep{};
-  int kept = 0;
-  for (int a = 0; a < 4; ++a) kept += keep[a] = in[a] > 1;
-  for (int a = 0; a < 4 && kept < 3; ++a)
-    if (!keep[a]) keep[a] = true, ++kept;
+  const std::array<bool, 4> keep = mesh_problem_axes(in);
   std::array<int, 4> size{1, 1, 1, 1};
   for (int a = 0, j = 0; a < 4; ++a)
     if (keep[a]) size[j++] = in[a];

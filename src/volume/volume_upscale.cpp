@@ -187,6 +187,15 @@ Volume classic_upscale(const Volume& src, const std::array<int, 4>& size, const 
 
 }  // namespace
 
+std::array<bool, 4> mesh_problem_axes(const std::array<int, 4>& in) {
+  std::array<bool, 4> keep{};
+  int kept = 0;
+  for (int a = 0; a < 4; ++a) kept += keep[a] = in[a] > 1;
+  for (int a = 0; a < 4 && kept < 3; ++a)
+    if (!keep[a]) keep[a] = true, ++kept;
+  return keep;
+}
+
 int enlarged_size(int n, double s, bool node_centred) {
   const double m = node_centred && n > 1 ? std::round((n - 1) * s) + 1 : std::round(n * s);
   return static_cast<int>(std::clamp(m, 1.0, 2147483647.0));
@@ -279,14 +288,10 @@ Volume upscale_volume(const Volume& src, const std::array<int, 4>& size, const V
   }
   const std::array<int, 4> in = src.size();
   if (series) {
-    // keep[a]: axis a enters a 3D problem: every axis of more than one
-    // sample and, when they are fewer than three, the first others (thin
-    // axes, which the 3D path handles). A dropped axis has one sample, so
-    // dropping it keeps the layout; the result is repeated along it.
-    std::array<bool, 4> keep{};
-    int kept = 0;
-    for (int a = 0; a < 4; ++a) kept += keep[a] = in[a] > 1;
-    if (kept == 4) {
+    // A dropped axis has one sample, so dropping it keeps the layout; the
+    // result is repeated along it.
+    const std::array<bool, 4> keep = mesh_problem_axes(in);
+    if (std::count(keep.begin(), keep.end(), true) == 4) {
       Volume out;
       out.nx = size[0], out.ny = size[1], out.nz = size[2], out.nt = size[3], out.channels = src.channels;
       const GridProblem<4> grid{src.voxels, in, size, options.node_centred, src.channels, options.presmooth};
@@ -294,8 +299,6 @@ Volume upscale_volume(const Volume& src, const std::array<int, 4>& size, const V
       if (stats) *stats = local;
       return out;
     }
-    for (int a = 0; a < 4 && kept < 3; ++a)
-      if (!keep[a]) keep[a] = true, ++kept;
     std::array<int, 3> in3{1, 1, 1}, out3{1, 1, 1};
     std::array<bool, 4> node3{};
     std::array<double, 4> presmooth3{};

@@ -151,6 +151,11 @@ Volume upscale_volume(const Volume& src, int nx, int ny, int nz, const VolumeUps
 Volume upscale_volume(const Volume& src, const std::array<int, 4>& size, const VolumeUpscaleOptions& options = {},
                       VolumeUpscaleStats* stats = nullptr);
 
+// The axes (x, y, z, t) of a series' mesh problem: every axis of more than
+// one sample and, when they are fewer than three, the first others (thin
+// axes, which the 3D path gives to the 2D method).
+std::array<bool, 4> mesh_problem_axes(const std::array<int, 4>& in);
+
 // The output size along an axis of n samples enlarged by s: round(n s)
 // (at least 1), or (n - 1) s + 1 rounded on a node-centred axis (n > 1).
 int enlarged_size(int n, double s, bool node_centred);
