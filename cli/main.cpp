@@ -127,9 +127,6 @@ int run_upscale_job(UpscaleArguments args) {
     ddt::UpscaleStats stats;
     ddt::Image out = ddt::upscale(file.image, out_w, out_h, options, &stats);
     const int written_w = writer ? out_w : out.width, written_h = writer ? out_h : out.height;
-    if (stats.consistency_skipped && !args.quiet)
-      std::cerr << "ddtscale: warning: the image was processed in " << stats.tiles
-                << " tiles, where --model " << args.model << " is not applied (plain interpolation, --model point)\n";
     if (!args.compare.empty()) {
       t0 = std::chrono::steady_clock::now();
       const ddt::Image classic = ddt::classic_resize(file.image, out_w, out_h, args.compare);

@@ -89,10 +89,6 @@ std::function<void(const std::string&)> stderr_log(bool verbose) {
   return [](const std::string& line) { std::cerr << line << "\n"; };
 }
 
-void warn(const std::string& message) {
-  if (PyErr_WarnEx(PyExc_UserWarning, message.c_str(), 2) < 0) throw py::error_already_set();
-}
-
 template <class T>
 std::optional<T> optional_arg(const py::object& value, const char* name) {
   if (value.is_none()) return std::nullopt;
@@ -181,9 +177,6 @@ py::array upscale(const py::array& array, const py::object& scale, const py::obj
     }
     if (call.mesh && !progress.cancelled()) write_mesh(call, image);
   });
-  if (stats.consistency_skipped && !call.quiet)
-    warn("the image was processed in " + std::to_string(stats.tiles) + " tiles, where --model " + call.model +
-         " is not applied (plain interpolation, --model point)");
   return array_from_image(out, in.dtype, in.planar);
 }
 
@@ -228,9 +221,6 @@ py::tuple upscale_file(const std::string& input, const std::string& output, cons
       throw std::system_error(std::make_error_code(std::errc::io_error), e.what());
     }
   });
-  if (stats.consistency_skipped && !call.quiet)
-    warn(input + ": the image was processed in " + std::to_string(stats.tiles) + " tiles, where --model " +
-         call.model + " is not applied (plain interpolation, --model point)");
   return py::make_tuple(out_h, out_w);
 }
 

@@ -123,9 +123,9 @@ struct UpscaleOptions {
   // output is the untiled one, bit for bit. 0: automatic (tiles only when
   // the whole image would need more than max_memory bytes), < 0: never.
   // Only under the region schedule (region_rows > 0, or automatic on
-  // images of more than 2 * default_region_triangles triangles). Tiles
-  // use the point model (the consistent reconstruction solves over the
-  // whole image): UpscaleStats::consistency_skipped says so.
+  // images of more than 2 * default_region_triangles triangles). Under a
+  // consistent model the margins also cover the reconstruction's reach
+  // (consistent_reconstruction.hpp).
   int tile_rows = 0;
   long long max_memory = 0;         // 0: half the physical memory
   Progress* progress = nullptr;     // stages and work done, for a progress bar; may be null

@@ -47,7 +47,6 @@ struct UpscaleStats : StageSeconds, OptimizerSummary<long long> {
   int consistency_mesh_steps = 0;    // back-projection steps on the data-dependent mesh
   double consistency_residual = 0;  // max |input - acquire(output)| at input resolution, before rounding
   double seconds_consistency = 0;
-  bool consistency_skipped = false;  // tiled: the point model was used instead
 };
 
 }  // namespace ddt

@@ -148,7 +148,24 @@ Acquisition::Acquisition(const AcquisitionModel& model, int in_width, int in_hei
       out_width_(out_width),
       out_height_(out_height),
       wx_(axis_weights(model, in_width, out_width)),
-      by_row_(by_input_pixel(axis_weights(model, in_height, out_height), in_height)) {}
+      by_row_(by_input_pixel(axis_weights(model, in_height, out_height), in_height)) {
+  const double step = static_cast<double>(in_height) / out_height;
+  for (int jy = 0; jy < in_height; ++jy)
+    for (const auto& e : by_row_[jy]) {
+      const int centre_row = std::clamp(static_cast<int>((e.first + 0.5) * step), 0, in_height - 1);
+      reach_ = std::max(reach_, std::abs(centre_row - jy));
+    }
+}
+
+std::pair<int, int> Acquisition::rows_covered(int out_first, int out_end, int first, int end) const {
+  auto covered = [&](int jy) {
+    const auto [lo, hi] = rows_read(jy, jy + 1);
+    return lo >= hi || (lo >= out_first && hi <= out_end);
+  };
+  while (first < end && !covered(first)) ++first;
+  while (end > first && !covered(end - 1)) --end;
+  return {first, end};
+}
 
 std::pair<int, int> Acquisition::rows_read(int first, int end) const {
   int lo = out_height_, hi = 0;

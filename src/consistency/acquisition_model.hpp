@@ -65,11 +65,17 @@ class Acquisition {
 
   // The output rows input rows [first, end) read: [first, end) of the result.
   std::pair<int, int> rows_read(int first, int end) const;
+  // The rows of [first, end) whose output rows all lie in [out_first, out_end).
+  std::pair<int, int> rows_covered(int out_first, int out_end, int first, int end) const;
+  // How many input rows away, at most, lie the centres of the output rows
+  // an input row reads.
+  int reach() const { return reach_; }
 
  private:
   int in_width_, in_height_, out_width_, out_height_;
   AxisWeights wx_;
   std::vector<std::vector<std::pair<int, double>>> by_row_;  // input row -> (output row, weight)
+  int reach_ = 0;
 };
 
 }  // namespace ddt

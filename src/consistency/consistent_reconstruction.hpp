@@ -28,14 +28,24 @@
 //      more exact grid correction.
 // docs/consistency.md has the measurements behind these choices.
 //
+// Bands: every step is local (the grid solve by canonical blocks,
+// grid_surface.hpp), so a band of rows (a tile, a Dask block) with
+// consistency_margin_needed() rows of margin on each cut side, beyond the
+// rows its mesh needs, computes its inner rows to the same bits as the
+// whole image, given the whole input's statistics (input_statistics.hpp).
+//
 // Inputs:
 //   out        the rendered surface, out_width x out_height x C, C <= 16
-//              (corrected in place)
-//   mesh       the mesh it was rendered from; its points the pixel centres of src
-//   src        the input image, width x height x C
+//              (corrected in place); or the output rows of a band's input
+//              rows (options.band)
+//   mesh       the mesh it was rendered from; its points the pixel centres
+//              of src, in the whole image's coordinates
+//   src        the input image (or the band's rows), width x height x C
 // Errors: throws ddt::Error when a mesh is not src's pixel grid.
 
 #include "consistency/acquisition_model.hpp"
+#include "consistency/footprints.hpp"
+#include "consistency/input_statistics.hpp"
 #include "util/image.hpp"
 #include "image/mesh.hpp"
 
@@ -45,7 +55,7 @@ namespace ddt {
 
 struct ConsistencyOptions {
   AcquisitionModel model;       // not point
-  int mesh_steps = 2;           // back-projection steps on the data-dependent mesh (at most)
+  int mesh_steps = 2;           // back-projection steps on the data-dependent mesh
   double tolerance = 1e-6;      // a final grid correction where limiting left more than 10x this
   bool limit_halos = true;      // clamp overshoots beside edges, keeping each footprint's mean
   bool step_edges = true;       // box model: footprints on one straight edge drawn as that edge
@@ -59,6 +69,10 @@ struct ConsistencyOptions {
   // When set, called once the mesh is read no more (before the last
   // steps), so that the caller can free it.
   std::function<void()> mesh_done;
+  // Where src and out lie in the whole image (default: they are it), and
+  // the whole input's statistics (default: src's own).
+  RowBand band;
+  const InputStatistics* statistics = nullptr;
 };
 
 struct ConsistencyStats {
@@ -74,5 +88,14 @@ struct ConsistencyStats {
 
 void make_consistent(Image& out, const Mesh2& mesh, const Image& src, const ConsistencyOptions& options,
                      ConsistencyStats* stats = nullptr);
+
+// Input rows of margin a band needs on a cut side, beyond those its mesh
+// needs, for the consistent reconstruction of an image of width x height
+// to out_width x out_height to equal the whole image's there, when the
+// band mesh's triangles span at most triangle_rows rows (triangle_rows()).
+int consistency_margin_needed(int triangle_rows, const AcquisitionModel& model, int width, int height, int out_width,
+                              int out_height, int mesh_steps = ConsistencyOptions{}.mesh_steps);
+// The most rows a triangle of the mesh spans.
+int triangle_rows(const Mesh2& mesh);
 
 }  // namespace ddt

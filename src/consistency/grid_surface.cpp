@@ -44,15 +44,36 @@ struct GridSurface::Axis {
         add(w.pixel[k], lower[X], w.weight[k] * (1 - frac[X]));
         if (frac[X] != 0) add(w.pixel[k], lower[X] + 1, w.weight[k] * frac[X]);
       }
+    factor(lu, 0, n, model);
+  }
+
+  // The system of rows and vertices [first, end), factored.
+  template <class LU>
+  void factor(LU& solver, int first, int end, const AcquisitionModel& model) const {
     std::vector<Eigen::Triplet<double>> entries;
-    for (int j = 0; j < n; ++j)
-      for (const auto& [i, value] : rows[j]) entries.emplace_back(j, i, value);
-    Eigen::SparseMatrix<double> B(n, n);
+    for (int j = first; j < end; ++j)
+      for (const auto& [i, value] : rows[j])
+        if (i >= first && i < end) entries.emplace_back(j - first, i - first, value);
+    Eigen::SparseMatrix<double> B(end - first, end - first);
     B.setFromTriplets(entries.begin(), entries.end());
-    lu.compute(B);
-    if (lu.info() != Eigen::Success)
+    solver.compute(B);
+    if (solver.info() != Eigen::Success)
       throw Error("the acquisition model " + to_string(model) + " cannot be inverted on an axis of " +
-                  std::to_string(n) + " pixels");
+                  std::to_string(end - first) + " pixels");
+  }
+
+  // Rows from the middle one to the last whose weight in the inverse is
+  // above 1e-13 of the diagonal's: how far a row's value reaches.
+  int inverse_reach() const {
+    const int c = n / 2;
+    Eigen::VectorXd impulse = Eigen::VectorXd::Zero(n);
+    impulse[c] = 1;
+    const Eigen::VectorXd column = lu.solve(impulse);
+    const double floor = 1e-13 * std::abs(column[c]);
+    int reach = 0;
+    for (int i = 0; i < n; ++i)
+      if (std::abs(column[i]) > floor) reach = std::max(reach, std::abs(i - c));
+    return reach;
   }
 };
 
@@ -61,74 +82,107 @@ GridSurface::GridSurface(int W, int H, int out_w, int out_h, const AcquisitionMo
   if (W < 1 || H < 1 || out_w < 1 || out_h < 1) throw Error("grid surface: empty grid");
   x_ = std::make_unique<Axis>(model, W, out_w);
   y_ = std::make_unique<Axis>(model, H, out_h);
+  model_ = model;
+  window_rows_ = std::clamp(y_->inverse_reach() + 1, 2, 256);
+  block_rows_ = std::max(32, 2 * window_rows_);
 }
 
 GridSurface::~GridSurface() = default;
 
-void GridSurface::acquire(const std::vector<double>& v, std::vector<double>& y, int C) const {
-  const int W = width_, H = height_;
+void GridSurface::acquire(const std::vector<double>& v, std::vector<double>& y, int C, int first, int end) const {
+  const int W = width_;
+  if (end < 0) end = height_;
   const std::size_t row_size = static_cast<std::size_t>(W) * C;
-  if (v.size() != row_size * H) throw Error("grid surface: values of another grid");
+  if (first < 0 || end > height_ || first > end || v.size() != row_size * (end - first))
+    throw Error("grid surface: values of another grid");
   // Along x, each row; then along y, rows combined whole.
   std::vector<double> along_x(v.size(), 0.0);
-  tbb::parallel_for(0, H, [&](int iy) {
-    const double* in = &v[iy * row_size];
-    double* out = &along_x[iy * row_size];
+  tbb::parallel_for(first, end, [&](int iy) {
+    const double* in = &v[(iy - first) * row_size];
+    double* out = &along_x[(iy - first) * row_size];
     for (int jx = 0; jx < W; ++jx)
       for (const auto& [ix, w] : x_->rows[jx])
         for (int c = 0; c < C; ++c) out[jx * C + c] += w * in[ix * C + c];
   });
   y.assign(v.size(), 0.0);
-  tbb::parallel_for(0, H, [&](int jy) {
-    double* out = &y[jy * row_size];
+  tbb::parallel_for(first, end, [&](int jy) {
+    double* out = &y[(jy - first) * row_size];
     for (const auto& [iy, w] : y_->rows[jy]) {
-      const double* in = &along_x[iy * row_size];
+      if (iy < first || iy >= end) continue;
+      const double* in = &along_x[(iy - first) * row_size];
       for (std::size_t k = 0; k < row_size; ++k) out[k] += w * in[k];
     }
   });
 }
 
-void GridSurface::solve(const std::vector<double>& r, std::vector<double>& v, int C) const {
+void GridSurface::solve(const std::vector<double>& r, std::vector<double>& v, int C, int first, int end) const {
   using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  const int W = width_, H = height_;
+  using Solver = Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>>;
+  const int W = width_;
+  if (end < 0) end = height_;
   const std::size_t row_size = static_cast<std::size_t>(W) * C;
-  if (r.size() != row_size * H) throw Error("grid surface: values of another grid");
-  v.assign(r.begin(), r.end());
+  if (first < 0 || end > height_ || first >= end || r.size() != row_size * (end - first))
+    throw Error("grid surface: values of another grid");
+  const int rows = end - first;
   // G = By (x) Bx, so v = By^-1 R Bx^-T: each row solved along x (its C
   // channels are the right-hand sides) ...
-  tbb::parallel_for(0, H, [&](int iy) {
-    Eigen::Map<RowMajor> row(&v[iy * row_size], W, C);
+  std::vector<double> along_x(r.begin(), r.end());
+  tbb::parallel_for(0, rows, [&](int iy) {
+    Eigen::Map<RowMajor> row(&along_x[iy * row_size], W, C);
     const Eigen::MatrixXd solved = x_->lu.solve(row);
     row = solved;
   });
-  // ... then every (column, channel) along y, in blocks of right-hand sides.
-  Eigen::Map<RowMajor> all(v.data(), H, static_cast<Eigen::Index>(row_size));
-  const Eigen::Index block = 256;
-  const Eigen::Index blocks = (static_cast<Eigen::Index>(row_size) + block - 1) / block;
-  tbb::parallel_for(Eigen::Index(0), blocks, [&](Eigen::Index b) {
-    const Eigen::Index first = b * block, count = std::min(block, static_cast<Eigen::Index>(row_size) - first);
-    const Eigen::MatrixXd solved = y_->lu.solve(all.middleCols(first, count));
-    all.middleCols(first, count) = solved;
+  // ... then along y, block by block on each block's window (canonical
+  // blocks of absolute rows, so that every band cuts them alike), every
+  // (column, channel) a right-hand side, in groups of 256.
+  const int B = block_rows_, M = window_rows_;
+  const int first_block = first / B, end_block = (end + B - 1) / B;
+  std::vector<std::unique_ptr<Solver>> solvers(end_block - first_block);
+  auto window = [&](int k) { return std::pair{std::max(first, k * B - M), std::min(end, (k + 1) * B + M)}; };
+  tbb::parallel_for(first_block, end_block, [&](int k) {
+    const auto [a, b] = window(k);
+    solvers[k - first_block] = std::make_unique<Solver>();
+    y_->factor(*solvers[k - first_block], a, b, model_);
+  });
+  v.assign(r.size(), 0.0);
+  const Eigen::Map<const RowMajor> input(along_x.data(), rows, static_cast<Eigen::Index>(row_size));
+  Eigen::Map<RowMajor> output(v.data(), rows, static_cast<Eigen::Index>(row_size));
+  const Eigen::Index group = 256;
+  const Eigen::Index groups = (static_cast<Eigen::Index>(row_size) + group - 1) / group;
+  tbb::parallel_for(Eigen::Index(0), groups * (end_block - first_block), [&](Eigen::Index task) {
+    const int k = first_block + static_cast<int>(task / groups);
+    const Eigen::Index col = (task % groups) * group, count = std::min(group, static_cast<Eigen::Index>(row_size) - col);
+    const auto [a, b] = window(k);
+    const Eigen::MatrixXd solved = solvers[k - first_block]->solve(input.block(a - first, col, b - a, count));
+    const int keep_first = std::max(first, k * B), keep_end = std::min(end, (k + 1) * B);
+    output.block(keep_first - first, col, keep_end - keep_first, count) =
+        solved.middleRows(keep_first - a, keep_end - keep_first);
   });
 }
 
-void GridSurface::add_to(Image& out, const std::vector<double>& values, int first_row, int end_row) const {
+void GridSurface::add_to(Image& out, const std::vector<double>& values, int first_row, int end_row, int out_origin,
+                         int v_first) const {
   const int W = width_, C = out.channels;
-  if (out.width != out_width_ || out.height != out_height_ ||
-      values.size() != static_cast<std::size_t>(W) * height_ * C)
-    throw Error("grid surface: values or output of another grid");
+  const std::size_t row_size = static_cast<std::size_t>(W) * C;
+  if (out.width != out_width_ || values.size() % row_size != 0) throw Error("grid surface: values or output of another grid");
   const Axis &ax = *x_, &ay = *y_;
-  if (end_row < 0 || end_row > out.height) end_row = out.height;
-  first_row = std::max(0, first_row);
+  if (end_row < 0) end_row = out_origin + out.height;
+  first_row = std::max(out_origin, first_row);
+  end_row = std::min(end_row, out_origin + out.height);
+  if (first_row >= end_row) return;
+  // Rows between vertex rows the values lack (at a band's cut) are left.
+  const int v_end = v_first + static_cast<int>(values.size() / row_size);
+  while (first_row < end_row && ay.lower[first_row] < v_first) ++first_row;
+  while (end_row > first_row && ay.lower[end_row - 1] + (ay.frac[end_row - 1] != 0) >= v_end) --end_row;
   if (first_row >= end_row) return;
   tbb::parallel_for(first_row, end_row, [&](int Y) {
     // The two input rows this output row lies between, interpolated once.
     const double fy = ay.frac[Y];
-    const double* r0 = &values[static_cast<std::size_t>(ay.lower[Y]) * W * C];
-    const double* r1 = fy != 0 ? r0 + static_cast<std::size_t>(W) * C : r0;
-    std::vector<double> row(static_cast<std::size_t>(W) * C);
+    const double* r0 = &values[static_cast<std::size_t>(ay.lower[Y] - v_first) * row_size];
+    const double* r1 = fy != 0 ? r0 + row_size : r0;
+    std::vector<double> row(row_size);
     for (std::size_t i = 0; i < row.size(); ++i) row[i] = (1 - fy) * r0[i] + fy * r1[i];
-    float* o = &out.pixels[out.index(0, Y)];
+    float* o = &out.pixels[out.index(0, Y - out_origin)];
     for (int X = 0; X < out.width; ++X, o += C) {
       const double* p = &row[static_cast<std::size_t>(ax.lower[X]) * C];
       const double fx = ax.frac[X];

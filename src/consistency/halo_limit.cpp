@@ -1,5 +1,7 @@
 #include "consistency/halo_limit.hpp"
 
+#include "util/error.hpp"
+
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -72,27 +74,29 @@ double mean_keeping_shift(const std::vector<float>& o, double mean, double lo, d
   return t;
 }
 
-HaloLimiter::HaloLimiter(const Image& src)
-    : src_(src), image_min_(src.channels, INFINITY), image_max_(src.channels, -INFINITY) {
-  const int C = src.channels;
-  for (std::size_t i = 0; i < src.pixels.size(); ++i) {
-    image_min_[i % C] = std::min(image_min_[i % C], src.pixels[i]);
-    image_max_[i % C] = std::max(image_max_[i % C], src.pixels[i]);
-  }
-}
+HaloLimiter::HaloLimiter(const Image& src, const InputStatistics& statistics, const RowBand& band)
+    : src_(src), statistics_(statistics), band_(band) {}
 
-long long limit_halos(Image& out, const Image& src) { return HaloLimiter(src).limit(out); }
+long long limit_halos(Image& out, const Image& src) { return HaloLimiter(src, input_statistics(src)).limit(out); }
 
 long long HaloLimiter::limit(Image& out, int first_row, int end_row) const {
   const Image& src = src_;
-  const std::vector<float>&image_min = image_min_, &image_max = image_max_;
-  const FootprintPixels f = footprint_pixels(src.width, src.height, out.width, out.height);
+  const std::vector<float>&image_min = statistics_.min, &image_max = statistics_.max;
+  const int top = band_.src_top, out_origin = band_.out_origin;
+  const int H = band_.image_height > 0 ? band_.image_height : src.height;
+  const int out_h = band_.out_height > 0 ? band_.out_height : out.height;
+  const FootprintPixels f = footprint_pixels(src.width, H, out.width, out_h);
   const int C = src.channels;
-  if (end_row < 0 || end_row > src.height) end_row = src.height;
-  first_row = std::max(0, first_row);
+  if (static_cast<int>(image_min.size()) != C) throw Error("halo limit: statistics of another image");
+  // Footprints of the band's rows whose output rows `out` holds.
+  end_row = std::min(end_row < 0 ? H : end_row, top + src.height);
+  first_row = std::max(first_row, top);
+  while (first_row < end_row && f.first_y[first_row] < out_origin) ++first_row;
+  while (end_row > first_row && f.first_y[end_row] > out_origin + out.height) --end_row;
   if (first_row >= end_row) return 0;
   std::atomic<long long> limited{0};
-  tbb::parallel_for(first_row, end_row, [&](int y) {
+  tbb::parallel_for(first_row, end_row, [&](int global_y) {
+    const int y = global_y - top;  // the band's own row
     // A footprint's pixels of every channel are gathered in one pass
     // (channel-major), its 3x3 ranges found in another.
     std::vector<float> all, o;
@@ -100,7 +104,8 @@ long long HaloLimiter::limit(Image& out, int first_row, int end_row) const {
     long long count = 0;
     const int y0 = std::max(0, y - 1), y1 = std::min(src.height - 1, y + 1);
     for (int x = 0; x < src.width; ++x) {
-      const int X0 = f.first_x[x], X1 = f.first_x[x + 1], Y0 = f.first_y[y], Y1 = f.first_y[y + 1];
+      const int X0 = f.first_x[x], X1 = f.first_x[x + 1];
+      const int Y0 = f.first_y[global_y] - out_origin, Y1 = f.first_y[global_y + 1] - out_origin;
       const std::size_t n = static_cast<std::size_t>(X1 - X0) * (Y1 - Y0);
       if (n == 0) continue;
       all.resize(n * C);

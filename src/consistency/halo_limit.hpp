@@ -9,19 +9,14 @@
 // elsewhere nearly (consistent_reconstruction.cpp corrects the rest).
 // docs/consistency.md has the measurements behind the bounds.
 
+#include "consistency/footprints.hpp"
+#include "consistency/input_statistics.hpp"
 #include "util/image.hpp"
 
 #include <utility>
 #include <vector>
 
 namespace ddt {
-
-// The output pixels whose centres lie in each input pixel: footprint x
-// holds columns [first_x[x], first_x[x + 1]), likewise rows.
-struct FootprintPixels {
-  std::vector<int> first_x, first_y;
-};
-FootprintPixels footprint_pixels(int width, int height, int out_width, int out_height);
 
 // The range an output pixel may take in footprint (x, y), channel c: that of
 // the 3x3 input pixels around it. Where the pixel is the strict minimum of
@@ -40,15 +35,18 @@ double mean_keeping_shift(const std::vector<float>& values, double mean, double 
 // Clamps the footprints of `out` (a consistent output of `src`) as above,
 // those of input rows [first_row, end_row) (end_row < 0: to the last): each
 // footprint is read and written alone, so bands of rows give the whole
-// image's result. Returns the number of footprints and channels changed.
+// image's result. `band` places src and out in the whole image (rows
+// absolute); `statistics` are the whole input's. Returns the number of
+// footprints and channels changed.
 class HaloLimiter {
  public:
-  explicit HaloLimiter(const Image& src);
+  HaloLimiter(const Image& src, const InputStatistics& statistics, const RowBand& band = {});
   long long limit(Image& out, int first_row = 0, int end_row = -1) const;
 
  private:
   const Image& src_;
-  std::vector<float> image_min_, image_max_;  // per channel, for isolated dots
+  InputStatistics statistics_;
+  RowBand band_;
 };
 
 long long limit_halos(Image& out, const Image& src);

@@ -188,7 +188,8 @@ EdgeFit fit_edge(const Window& w, int main, double lo, double hi, double allowed
 // The largest misfit of the fitted edge, levels kept, over the 5x5 input
 // pixels around (x, y): a second feature within two pixels (the far side of
 // a thin line, a corner, the image's own border stripe) shows here.
-double misfit_5x5(const Image& src, int x, int y, const EdgeFit& fit) {
+// (x, y) the whole image's pixel; src holds rows from `top`.
+double misfit_5x5(const Image& src, int top, int x, int y, const EdgeFit& fit) {
   const double nx = std::cos(fit.angle), ny = std::sin(fit.angle);
   double worst = 0;
   for (int py = y - 2; py <= y + 2; ++py)
@@ -196,52 +197,46 @@ double misfit_5x5(const Image& src, int x, int y, const EdgeFit& fit) {
       const double share =
           rectangle_coverage(nx * (px + 0.5) + ny * (py + 0.5) - fit.offset, std::abs(nx), std::abs(ny));
       for (int c = 0; c < src.channels; ++c)
-        worst = std::max(worst, std::abs(fit.a[c] + (fit.b[c] - fit.a[c]) * share - src.at(px, py, c)));
+        worst = std::max(worst, std::abs(fit.a[c] + (fit.b[c] - fit.a[c]) * share - src.at(px, py - top, c)));
     }
   return worst;
 }
 
-// The code value of a quantized input (1/255, 1/65535), 0 for one that is
-// not: every sample must sit on the code grid.
-double quantum_of(const Image& src) {
-  for (double levels : {255.0, 65535.0}) {
-    bool on_grid = true;
-    for (std::size_t i = 0; i < src.pixels.size() && on_grid; ++i) {
-      const double code = src.pixels[i] * levels;
-      on_grid = std::abs(code - std::round(code)) < 1e-3;
-    }
-    if (on_grid) return 1 / levels;
-  }
-  return 0;
-}
-
 }  // namespace
 
-StepEdgeRenderer::StepEdgeRenderer(const Image& src, const StepEdgeOptions& options) : src_(src), options_(options) {
-  if (src.width < 5 || src.height < 5 || src.channels > max_channels) return;
-  const double quantum = quantum_of(src);
-  min_step_ = options.min_step_codes * quantum;
-  if (quantum == 0) {
-    const auto [lo, hi] = std::minmax_element(src.pixels.begin(), src.pixels.end());
-    min_step_ = options.min_step_share * (*hi - *lo);
+StepEdgeRenderer::StepEdgeRenderer(const Image& src, const InputStatistics& statistics, const RowBand& band,
+                                   const StepEdgeOptions& options)
+    : src_(src), band_(band), options_(options) {
+  const int H = band.image_height > 0 ? band.image_height : src.height;
+  if (src.width < 5 || H < 5 || src.channels > max_channels || statistics.min.empty()) return;
+  min_step_ = options.min_step_codes * statistics.quantum;
+  if (statistics.quantum == 0) {
+    const float lo = *std::min_element(statistics.min.begin(), statistics.min.end());
+    const float hi = *std::max_element(statistics.max.begin(), statistics.max.end());
+    min_step_ = options.min_step_share * (hi - lo);
   }
-  rounding_ = 0.5 * quantum;
+  rounding_ = 0.5 * statistics.quantum;
 }
 
 long long render_step_edges(Image& out, const Image& src, const StepEdgeOptions& options) {
-  return StepEdgeRenderer(src, options).render(out);
+  return StepEdgeRenderer(src, input_statistics(src), {}, options).render(out);
 }
 
 long long StepEdgeRenderer::render(Image& out, int first_row, int end_row) const {
   const Image& src = src_;
   const StepEdgeOptions& options = options_;
-  const int W = src.width, H = src.height, C = src.channels;
+  const int top = band_.src_top, out_origin = band_.out_origin;
+  const int W = src.width, H = band_.image_height > 0 ? band_.image_height : src.height, C = src.channels;
+  const int out_h = band_.out_height > 0 ? band_.out_height : out.height;
   const double min_step = min_step_, rounding = rounding_;
   if (!(min_step > 0)) return 0;  // a flat image, or one too small or with too many channels
-  const FootprintPixels f = footprint_pixels(W, H, out.width, out.height);
-  const double pw = static_cast<double>(W) / out.width, ph = static_cast<double>(H) / out.height;  // output pixel size
-  // Footprints with the whole 5x5 window inside the image.
-  const int first = std::max(2, first_row), end = std::min(H - 2, end_row < 0 ? H : end_row);
+  const FootprintPixels f = footprint_pixels(W, H, out.width, out_h);
+  const double pw = static_cast<double>(W) / out.width, ph = static_cast<double>(H) / out_h;  // output pixel size
+  // Footprints with the whole 5x5 window inside the image and the band,
+  // whose output rows `out` holds.
+  int first = std::max({2, first_row, top + 2}), end = std::min({H - 2, end_row < 0 ? H : end_row, top + src.height - 2});
+  while (first < end && f.first_y[first] < out_origin) ++first;
+  while (end > first && f.first_y[end] > out_origin + out.height) --end;
   if (first >= end) return 0;
   std::atomic<long long> drawn{0};
   tbb::parallel_for(first, end, [&](int y) {
@@ -259,7 +254,7 @@ long long StepEdgeRenderer::render(Image& out, int first_row, int end_row) const
         w.cx[k] = px + 0.5;
         w.cy[k] = py + 0.5;
         for (int c = 0; c < C; ++c) {
-          const double value = src.at(px, py, c);
+          const double value = src.at(px, py - top, c);
           w.value[k * C + c] = value;
           lo[c] = k == 0 ? value : std::min(lo[c], value);
           hi[c] = k == 0 ? value : std::max(hi[c], value);
@@ -289,7 +284,7 @@ long long StepEdgeRenderer::render(Image& out, int first_row, int end_row) const
         levels_inside = levels_inside && std::min(fit.a[c], fit.b[c]) >= lo[c] - slack &&
                         std::max(fit.a[c], fit.b[c]) <= hi[c] + slack;
       }
-      if (!levels_inside || !(misfit_5x5(src, x, y, fit) <= options.reach_tolerance * main_step + rounding)) continue;
+      if (!levels_inside || !(misfit_5x5(src, top, x, y, fit) <= options.reach_tolerance * main_step + rounding)) continue;
       const double nx = std::cos(fit.angle), ny = std::sin(fit.angle);
       const double p = pw * std::abs(nx), q = ph * std::abs(ny);
       for (int c = 0; c < C; ++c) {
@@ -297,7 +292,7 @@ long long StepEdgeRenderer::render(Image& out, int first_row, int end_row) const
         double mean = 0;
         for (int Y = f.first_y[y]; Y < f.first_y[y + 1]; ++Y)
           for (int X = f.first_x[x]; X < f.first_x[x + 1]; ++X) {
-            mean += out.at(X, Y, c);
+            mean += out.at(X, Y - out_origin, c);
             const double s = nx * (X + 0.5) * pw + ny * (Y + 0.5) * ph - fit.offset;
             o.push_back(static_cast<float>(fit.a[c] + (fit.b[c] - fit.a[c]) * rectangle_coverage(s, p, q)));
           }
@@ -307,7 +302,7 @@ long long StepEdgeRenderer::render(Image& out, int first_row, int end_row) const
         std::size_t i = 0;
         for (int Y = f.first_y[y]; Y < f.first_y[y + 1]; ++Y)
           for (int X = f.first_x[x]; X < f.first_x[x + 1]; ++X)
-            out.at(X, Y, c) = static_cast<float>(std::clamp(o[i++] + t, lo[c], hi[c]));
+            out.at(X, Y - out_origin, c) = static_cast<float>(std::clamp(o[i++] + t, lo[c], hi[c]));
       }
       ++drawn;
     }

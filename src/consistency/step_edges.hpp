@@ -30,6 +30,8 @@
 // Complexity: O(input pixels) fits, most rejected after one evaluation;
 //   O(output pixels) for those drawn.
 
+#include "consistency/footprints.hpp"
+#include "consistency/input_statistics.hpp"
 #include "util/image.hpp"
 
 namespace ddt {
@@ -51,15 +53,18 @@ struct StepEdgeOptions {
 
 // The footprints of input rows [first_row, end_row) (end_row < 0: to the
 // last); each is read and written alone, so bands of rows give the whole
-// image's result. The smallest step and the rounding allowance are the
-// whole input's, found once.
+// image's result. The smallest step and the rounding allowance come from
+// the whole input's statistics; `band` places src and out in the whole
+// image (rows absolute, positions the whole image's).
 class StepEdgeRenderer {
  public:
-  explicit StepEdgeRenderer(const Image& src, const StepEdgeOptions& options = {});
+  StepEdgeRenderer(const Image& src, const InputStatistics& statistics, const RowBand& band = {},
+                   const StepEdgeOptions& options = {});
   long long render(Image& out, int first_row = 0, int end_row = -1) const;
 
  private:
   const Image& src_;
+  RowBand band_;
   StepEdgeOptions options_;
   double min_step_ = 0, rounding_ = 0;
 };

@@ -1,6 +1,7 @@
 #include "pipeline/upscale.hpp"
 
 #include "consistency/consistent_reconstruction.hpp"
+#include "consistency/input_statistics.hpp"
 #include "core/costs.hpp"
 #include "image/cubic_surface.hpp"
 #include "util/error.hpp"
@@ -148,10 +149,13 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
                      const UpscaleOptions& options, const CostFunction& cost, const DriveChannels& drive,
                      long long region_triangles, int region_rows, const std::string& label,
                      const std::function<Image&()>& output, UpscaleStats& local,
-                     int margin = std::numeric_limits<int>::max()) {
+                     int margin = std::numeric_limits<int>::max(), const InputStatistics* statistics = nullptr,
+                     int* margin_needed = nullptr) {
   const StageRunner stages(options.log, options.progress, label);
   const int W = src.width, C = src.channels;
-  const bool whole = band.top == 0 && band.bottom == image_height;
+  // The whole image, all its output rows (a tile whose margins reach both
+  // borders is still a band: it renders only its own rows).
+  const bool whole = band.top == 0 && band.bottom == image_height && band.out_first == 0 && band.out_end == out_height;
 
   // The band's samples (the image itself when the band is the image).
   std::vector<float> band_pixels;
@@ -163,21 +167,40 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
 
   LawsonStats ls;
   Mesh2 mesh = band_mesh(values, W, C, band, options, cost, drive, region_triangles, region_rows, stages, local, ls);
-  // A margin too narrow for the phases run: the caller redoes the band
-  // with a wider one, so nothing is drawn (or handed out) from this one.
-  if (options.optimize && band_margin_needed(ls.iterations, region_rows) > margin) return ls;
+  const bool consistent = options.model.kind != AcquisitionModel::Kind::point;
+  // A margin too narrow for the phases run (and for the consistent
+  // reconstruction's reach on this mesh): the caller redoes the band with
+  // a wider one, so nothing is drawn (or handed out) from this one.
+  if (!whole) {
+    const int needed = (options.optimize ? band_margin_needed(ls.iterations, region_rows) : 0) +
+                       (consistent ? consistency_margin_needed(triangle_rows(mesh), options.model, W, image_height,
+                                                               out_width, out_height)
+                                   : 0);
+    if (margin_needed) *margin_needed = needed;
+    if (needed > margin) return ls;
+  }
 
   // The image drawn into (the whole output, or the band's rows), once it
-  // is allocated; unused when the rows are streamed.
-  Image& out = output();
+  // is allocated; unused when the rows are streamed. A band of the
+  // consistent reconstruction draws all its rows, margins too, into an
+  // image of its own, and keeps its inner rows once corrected.
+  const bool band_image = consistent && !whole;
+  Image own_rows;
+  if (band_image) {
+    own_rows = Image(out_width,
+                     first_output_row(band.bottom, image_height, out_height) -
+                         first_output_row(band.top, image_height, out_height),
+                     C);
+  }
+  Image& out = band_image ? own_rows : output();
   auto t0 = Clock::now();
   RenderGrid grid;
   grid.width = out_width;
   grid.height = out_height;
   grid.scale_x = static_cast<double>(out_width) / src.width;
   grid.scale_y = static_cast<double>(out_height) / image_height;
-  grid.first_row = band.out_first;
-  grid.rows = band.out_end - band.out_first;
+  grid.first_row = band_image ? first_output_row(band.top, image_height, out_height) : band.out_first;
+  grid.rows = band_image ? own_rows.height : band.out_end - band.out_first;
   RenderStats rs;
   std::vector<float> gradients;
   const bool cubic = options.render == Render::cubic;
@@ -191,7 +214,6 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
     }
   }
   const std::vector<float>* patch_gradients = cubic ? &gradients : nullptr;
-  const bool consistent = options.model.kind != AcquisitionModel::Kind::point;
   if (options.output_rows && !consistent) {
     // Streamed: the band's output rows rendered and handed out a part at a time.
     const int step = streamed_band_rows(out_width, out_height, C, options, true);
@@ -206,8 +228,8 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
       options.output_rows(std::move(part), first);
     }
   } else {
-    render_mesh_into(out, band.out_first - band.out_origin, mesh, values, C, grid, &rs, true, patch_gradients,
-                     stages.progress());
+    render_mesh_into(out, band_image ? 0 : band.out_first - band.out_origin, mesh, values, C, grid, &rs, true,
+                     patch_gradients, stages.progress());
   }
   const double seconds_render = seconds_since(t0);
   local.seconds_render += seconds_render;
@@ -215,20 +237,44 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
              std::to_string(rs.triangles) + " + " + std::to_string(rs.rim_triangles) + " rim triangles, " +
              std::to_string(seconds_render) + " s");
   if (consistent) {
-    if (!whole) throw Error("the consistent reconstruction does not run in tiles yet");
     t0 = Clock::now();
     stages.begin("consistency");
     ConsistencyOptions co;
     co.model = options.model;
     co.step_edges = options.step_edges;
-    co.output_rows = options.output_rows;
+    if (!band_image) co.output_rows = options.output_rows;
     co.output_band_rows = streamed_band_rows(out_width, out_height, C, options, false);
     // The mesh and the gradients are freed before the last steps, whose
     // bands of output rows can then reuse their memory.
     std::vector<float>().swap(gradients);
     co.mesh_done = [&mesh] { mesh = Mesh2(); };
     ConsistencyStats cs;
-    make_consistent(out, mesh, src, co, &cs);
+    if (band_image) {
+      Image rows(W, band.bottom - band.top, C);
+      rows.pixels = values;
+      co.band = RowBand{band.top, image_height, grid.first_row, out_height};
+      co.statistics = statistics;
+      make_consistent(out, mesh, rows, co, &cs);
+      // The band's own rows, into the whole output or handed out.
+      const std::ptrdiff_t row_floats = static_cast<std::ptrdiff_t>(out_width) * C;
+      const auto kept = own_rows.pixels.begin() + row_floats * (band.out_first - grid.first_row);
+      if (options.output_rows) {
+        const int step = streamed_band_rows(out_width, out_height, C, options, false);
+        for (int first = band.out_first; first < band.out_end; first += step) {
+          const int end = std::min(band.out_end, first + step);
+          Image part(out_width, end - first, C);
+          std::copy(kept + row_floats * (first - band.out_first), kept + row_floats * (end - band.out_first),
+                    part.pixels.begin());
+          options.output_rows(std::move(part), first);
+        }
+      } else {
+        Image& whole_out = output();
+        std::copy(kept, kept + row_floats * (band.out_end - band.out_first),
+                  whole_out.pixels.begin() + row_floats * (band.out_first - band.out_origin));
+      }
+    } else {
+      make_consistent(out, mesh, src, co, &cs);
+    }
     local.consistency_mesh_steps = cs.mesh_steps;
     local.consistency_residual = cs.residual_after;
     local.seconds_consistency = seconds_since(t0);
@@ -303,10 +349,12 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
     const double budget = options.max_memory > 0 ? double(options.max_memory) : 0.5 * double(physical_memory());
     const double whole = fixed + per_pixel * W * H;
     if (whole > budget) {
-      // Tiles run the point model: their rows are sized without the
-      // consistent reconstruction's memory, in two tiles at least.
+      // A tile of the consistent reconstruction also holds its own output
+      // rows and the reconstruction's vectors; two tiles at least.
       const double tiled_fixed = 4.0 * C * (static_cast<double>(W) * H + held_output);
-      const double rows = (budget - tiled_fixed) / (per_pixel * W);
+      const double row_bytes =
+          per_pixel * W + (consistent ? (4.0 * C + 4.0) * out_width * out_height / H + (256.0 + 80.0 * C) * W : 0.0);
+      const double rows = (budget - tiled_fixed) / row_bytes;
       tile_rows = std::min((H + 1) / 2, std::max(256, static_cast<int>(rows * 0.8) - 512));
     }
   }
@@ -320,18 +368,16 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
     band_options.model.kind = AcquisitionModel::Kind::point;
     if (options.log) options.log("consistency: skipped, the output is smaller than the input on an axis (point model)");
   }
-  if (tile_rows > 0 && consistent) {
-    band_options.model.kind = AcquisitionModel::Kind::point;
-    local.consistency_skipped = true;
-    if (options.log) options.log("consistency: skipped, the image is processed in tiles (point model)");
-  }
   const long long region_triangles = region_rows > 0 ? region_rows * cells_row : -1;
+  // Tiles of the consistent reconstruction decide as the whole input does.
+  InputStatistics statistics;
+  if (tile_rows > 0 && consistent) statistics = input_statistics(src);
 
-  // Streamed under the point model, every band hands its rows out itself;
-  // the consistent reconstruction holds the whole output and hands out each
-  // band of it once its last steps are done (make_consistent).
+  // Streamed, every tile hands its rows out itself; the untiled consistent
+  // reconstruction holds the whole output and hands out each band of it
+  // once its last steps are done (make_consistent).
   const bool streamed = static_cast<bool>(options.output_rows);
-  const bool whole_output = !streamed || band_options.model.kind != AcquisitionModel::Kind::point;
+  const bool whole_output = !streamed || (consistent && tile_rows == 0);
   // The output's pages are mapped while the mesh is built.
   Image out;
   std::future<Image> allocating = whole_output ? prefaulted_image_async(out_width, out_height, C) : std::future<Image>();
@@ -354,7 +400,10 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
     // the band is redone with a wider one. So every rendered row sees the
     // whole image's mesh (docs/performance.md).
     const int tiles = (H + tile_rows - 1) / tile_rows;
-    int margin = 2 * region_rows + 8;
+    // The consistent reconstruction's reach on a mesh whose triangles span
+    // up to a region's rows (it is checked on each tile's own mesh).
+    int margin = 2 * region_rows + 8 +
+                 (consistent ? consistency_margin_needed(region_rows, options.model, W, H, out_width, out_height) : 0);
     local.tiles = tiles;
     for (int i = 0; i < tiles; ++i) {
       const int y0 = i * tile_rows, y1 = std::min(H, y0 + tile_rows);
@@ -364,11 +413,11 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
         UpscaleStats part;
         const std::string label = "tile " + std::to_string(i + 1) + "/" + std::to_string(tiles) + " ";
         const int cut_margin = std::min(band.top > 0 ? y0 - band.top : H, band.bottom < H ? band.bottom - y1 : H);
+        int needed = 0;
         const LawsonStats ls = run_band(src, 0, H, band, out_width, out_height, band_options, cost, drive, region_triangles,
-                                        region_rows, label, output, part, cut_margin);
-        const int needed = band_margin_needed(ls.iterations, region_rows);
-        if (options.optimize && needed > margin) {
-          margin = needed + region_rows;
+                                        region_rows, label, output, part, cut_margin, &statistics, &needed);
+        if (needed > cut_margin) {
+          margin = std::max(margin, needed + region_rows);
           if (options.log) options.log(label + "margin too narrow for " + std::to_string(ls.iterations) +
                                        " phases: again with " + std::to_string(margin) + " rows");
           continue;
@@ -411,7 +460,7 @@ int output_row_of(int y, int in_height, int out_height) { return first_output_ro
 int band_margin_needed(int phases, int region_rows) { return (phases + 1) * ((region_rows + 1) / 2) + 8; }
 
 Image upscale_rows(const Image& rows, int top, int image_height, int first, int end, int out_width, int out_height,
-                   const UpscaleOptions& options, UpscaleStats* stats) {
+                   const UpscaleOptions& options, UpscaleStats* stats, const InputStatistics* statistics) {
   if (rows.empty() || rows.width <= 0 || rows.height <= 0) throw Error("the input image is empty");
   if (out_width < 1 || out_height < 1) throw Error("the output size must be at least 1x1");
   const int bottom = top + rows.height;
@@ -420,9 +469,10 @@ Image upscale_rows(const Image& rows, int top, int image_height, int first, int 
                 "given rows " + std::to_string(top) + ".." + std::to_string(bottom) + " of an image of " +
                 std::to_string(image_height));
   const bool whole = top == 0 && bottom == image_height;
-  if (!whole && options.model.kind != AcquisitionModel::Kind::point)
-    throw Error("--model " + to_string(options.model) +
-                " (the consistent reconstruction) solves over the whole image: bands need --model point");
+  const bool consistent = options.model.kind != AcquisitionModel::Kind::point && out_width >= rows.width &&
+                          out_height >= image_height;
+  if (!whole && consistent && !statistics)
+    throw Error("upscale_rows: a band of the consistent reconstruction needs the whole input's statistics");
   const CostFunction& cost = checked_cost(options);
   const DriveChannels drive = drive_channels(rows, options);
   const int region_rows = optimizer_region_rows(rows.width, image_height, options);
@@ -436,14 +486,18 @@ Image upscale_rows(const Image& rows, int top, int image_height, int first, int 
   Image out(out_width, band.out_end - band.out_first, rows.channels);
   UpscaleStats local;
   local.tile_margin = std::min(top > 0 ? first - top : image_height, bottom < image_height ? bottom - end : image_height);
-  const LawsonStats ls = run_band(rows, top, image_height, band, out_width, out_height, options, cost, drive,
+  UpscaleOptions band_options = options;
+  if (!consistent) band_options.model.kind = AcquisitionModel::Kind::point;
+  int needed = 0;
+  const LawsonStats ls = run_band(rows, top, image_height, band, out_width, out_height, band_options, cost, drive,
                                   region_triangles, region_rows, "", [&]() -> Image& { return out; }, local,
-                                  whole ? std::numeric_limits<int>::max() : local.tile_margin);
+                                  whole ? std::numeric_limits<int>::max() : local.tile_margin, statistics, &needed);
   take_optimizer_stats(ls, local);
-  if (!whole && options.optimize && band_margin_needed(ls.iterations, region_rows) > local.tile_margin)
+  if (!whole && needed > local.tile_margin)
     throw Error("a margin of " + std::to_string(local.tile_margin) + " rows is too narrow for the " +
-                std::to_string(ls.iterations) + " phases of the optimizer: give at least " +
-                std::to_string(band_margin_needed(ls.iterations, region_rows)) + " rows");
+                std::to_string(ls.iterations) + " phases of the optimizer" +
+                (consistent ? " and the consistent reconstruction" : "") + ": give at least " +
+                std::to_string(needed) + " rows");
   if (stats) *stats = local;
   return out;
 }

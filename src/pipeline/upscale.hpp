@@ -16,6 +16,7 @@
 // Errors: throws ddt::Error (bad options, empty image).
 
 #include "consistency/acquisition_model.hpp"
+#include "consistency/input_statistics.hpp"
 #include "ddtscale/ddtscale.hpp"
 #include "image/annealing.hpp"
 #include "image/mesh.hpp"
@@ -45,13 +46,16 @@ Mesh2 upscale_mesh(const Image& src, const UpscaleOptions& options = {}, Upscale
 // out_height, options), computed from input rows [top, top + rows.height)
 // of the image (image_height rows in all) that hold [first, end) with
 // margins. Equal to those rows of upscale() bit for bit when the band is the
-// whole image, or under the point model and Lawson's region schedule
-// (options.region_rows > 0, or automatic on a large image) with margins of
-// band_margin_needed(phases, region_rows) rows where the band is cut.
+// whole image, or under Lawson's region schedule (options.region_rows > 0,
+// or automatic on a large image) with margins of band_margin_needed(phases,
+// region_rows) rows where the band is cut, plus, under a consistent model,
+// consistency_margin_needed() rows (consistent_reconstruction.hpp); a band
+// of a consistent model also needs the whole input's `statistics`.
 // Throws ddt::Error otherwise (too narrow a margin: after the work, with the
 // width needed).
 Image upscale_rows(const Image& rows, int top, int image_height, int first, int end, int out_width, int out_height,
-                   const UpscaleOptions& options = {}, UpscaleStats* stats = nullptr);
+                   const UpscaleOptions& options = {}, UpscaleStats* stats = nullptr,
+                   const InputStatistics* statistics = nullptr);
 // The first output row sampled at or below input row y.
 int output_row_of(int y, int in_height, int out_height);
 // Rows of margin a band needs on a cut side for `phases` phases of the

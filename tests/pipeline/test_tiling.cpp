@@ -7,6 +7,8 @@
 #include "test_support.hpp"
 #include "image/triangulation.hpp"
 #include "pipeline/upscale.hpp"
+#include "consistency/consistent_reconstruction.hpp"
+#include "consistency/input_statistics.hpp"
 
 #include <doctest/doctest.h>
 
@@ -119,31 +121,48 @@ TEST_CASE("render_mesh: a window of rows is the same rows of the whole image") {
 }
 
 TEST_CASE("upscale_rows: bands with margins are the whole image's rows, bit for bit") {
-  const Image in = textured(90, 120);
-  UpscaleOptions opt;
-  opt.model.kind = AcquisitionModel::Kind::point;
-  opt.region_rows = 8;
+  const int H = 720;  // tall enough for cuts with the reconstruction's margins
+  const Image in = textured(90, H);
+  const InputStatistics statistics = input_statistics(in);
+  for (const char* model : {"point", "box", "bicubic"})
   for (double scale : {2.0, 2.5}) {
+    CAPTURE(model);
     CAPTURE(scale);
-    const int ow = static_cast<int>(90 * scale), oh = static_cast<int>(120 * scale);
+    UpscaleOptions opt;
+    opt.model = parse_acquisition_model(model);
+    opt.region_rows = 8;
+    const int ow = static_cast<int>(90 * scale), oh = static_cast<int>(H * scale);
     UpscaleStats whole;
     const Image a = upscale(in, ow, oh, opt, &whole);
-    const int margin = band_margin_needed(whole.iterations + 2, 8);
+    // Triangles of up to two regions' height (a guess; a band with too
+    // narrow a margin would throw).
+    const int margin = band_margin_needed(whole.iterations + 2, 8) +
+                       consistency_margin_needed(16, opt.model, 90, H, ow, oh);
+    if (opt.model.kind != AcquisitionModel::Kind::point) {  // too narrow for the reconstruction
+      Image rows(90, 80, 3);
+      std::copy(in.pixels.begin(), in.pixels.begin() + static_cast<std::ptrdiff_t>(rows.pixels.size()),
+                rows.pixels.begin());
+      CHECK_THROWS_WITH_AS(upscale_rows(rows, 0, H, 0, 40, ow, oh, opt, nullptr, &statistics),
+                           doctest::Contains("consistent reconstruction"), Error);
+    }
     // Bands of 35 rows (regions cut anywhere), each from its rows and margins only.
-    for (int first = 0; first < 120; first += 35) {
-      const int end = std::min(120, first + 35);
-      const int top = std::max(0, first - margin), bottom = std::min(120, end + margin);
+    int cut = 0;
+    for (int first = 0; first < H; first += 35) {
+      const int end = std::min(H, first + 35);
+      const int top = std::max(0, first - margin), bottom = std::min(H, end + margin);
+      cut += top > 0 && bottom < H;
       Image rows(90, bottom - top, 3);
       std::copy(in.pixels.begin() + static_cast<std::ptrdiff_t>(in.index(0, top)),
                 in.pixels.begin() + static_cast<std::ptrdiff_t>(in.index(0, bottom - 1) + 90 * 3), rows.pixels.begin());
-      const Image band = upscale_rows(rows, top, 120, first, end, ow, oh, opt);
-      const int y0 = output_row_of(first, 120, oh);
-      REQUIRE(band.height == output_row_of(end, 120, oh) - y0);
+      const Image band = upscale_rows(rows, top, H, first, end, ow, oh, opt, nullptr, &statistics);
+      const int y0 = output_row_of(first, H, oh);
+      REQUIRE(band.height == output_row_of(end, H, oh) - y0);
       long long differ = 0;
       for (std::size_t i = 0; i < band.pixels.size(); ++i)
         differ += band.pixels[i] != a.pixels[static_cast<std::size_t>(y0) * ow * 3 + i];
       CHECK(differ == 0);
     }
+    CHECK(cut >= 2);  // bands cut on both sides
   }
 }
 
@@ -151,8 +170,8 @@ TEST_CASE("upscale_rows: refuses what a band cannot reproduce") {
   const Image in = textured(40, 60);
   Image rows(40, 30, 3);
   std::copy(in.pixels.begin(), in.pixels.begin() + static_cast<std::ptrdiff_t>(rows.pixels.size()), rows.pixels.begin());
-  UpscaleOptions opt;  // the box model: the consistent reconstruction is whole-image
-  CHECK_THROWS_WITH_AS(upscale_rows(rows, 0, 60, 0, 20, 80, 120, opt), doctest::Contains("--model point"), Error);
+  UpscaleOptions opt;  // the box model: a band needs the whole input's statistics
+  CHECK_THROWS_WITH_AS(upscale_rows(rows, 0, 60, 0, 20, 80, 120, opt), doctest::Contains("statistics"), Error);
   opt.model.kind = AcquisitionModel::Kind::point;
   opt.region_rows = 4;
   CHECK_THROWS_WITH_AS(upscale_rows(rows, 0, 60, 0, 30, 80, 120, opt), doctest::Contains("too narrow"), Error);
