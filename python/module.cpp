@@ -8,6 +8,8 @@
 #include "arrays.hpp"
 #include "options.hpp"
 
+#include "consistency/consistent_reconstruction.hpp"
+#include "consistency/input_statistics.hpp"
 #include "eval/classic_resize.hpp"
 #include "eval/comparison.hpp"
 #include "util/error.hpp"
@@ -32,6 +34,7 @@
 #include <iostream>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 namespace py = pybind11;
@@ -224,17 +227,41 @@ py::tuple upscale_file(const std::string& input, const std::string& output, cons
   return py::make_tuple(out_h, out_w);
 }
 
+ddt::InputStatistics statistics_from(const py::object& value) {
+  const auto t = value.cast<std::tuple<std::vector<float>, std::vector<float>, double>>();
+  ddt::InputStatistics s;
+  s.min = std::get<0>(t), s.max = std::get<1>(t), s.quantum = std::get<2>(t);
+  if (s.min.size() != s.max.size() || s.min.empty()) throw ddt::Error("statistics: min and max of the same channels");
+  return s;
+}
+
+py::tuple input_statistics(const py::array& array) {
+  const ddt::InputStatistics s = ddt::input_statistics(image_from_array(array).image);
+  return py::make_tuple(s.min, s.max, s.quantum);
+}
+
+int consistency_margin_needed(int triangle_rows, int width, int height, int out_width, int out_height,
+                              const py::dict& kwargs) {
+  const ImageCall call = image_call(kwargs);
+  if (width < 1 || height < 1 || out_width < 1 || out_height < 1) throw ddt::Error("sizes must be at least 1");
+  if (out_width < width || out_height < height) return 0;  // a reduction: the point model
+  return ddt::consistency_margin_needed(triangle_rows, call.options.model, width, height, out_width, out_height);
+}
+
 py::array upscale_rows(const py::array& rows, int top, int image_height, int first, int end, int out_width,
-                       int out_height, const py::dict& kwargs) {
+                       int out_height, const py::dict& kwargs, const py::object& statistics) {
   ImageCall call = image_call(kwargs);
   ImageArray in = image_from_array(rows);
+  std::optional<ddt::InputStatistics> whole;
+  if (!statistics.is_none()) whole = statistics_from(statistics);
   call.options.log = stderr_log(call.verbose);
   ddt::Image out;
   ddt::Progress progress;
   call.options.progress = &progress;
   run_interruptibly(progress, [&] {
     const auto limit = ddt::limit_threads(call.threads);
-    out = ddt::upscale_rows(in.image, top, image_height, first, end, out_width, out_height, call.options);
+    out = ddt::upscale_rows(in.image, top, image_height, first, end, out_width, out_height, call.options, nullptr,
+                            whole ? &*whole : nullptr);
   });
   return array_from_image(out, in.dtype, in.planar);
 }
@@ -417,7 +444,11 @@ PYBIND11_MODULE(_ddtscale, m) {
   m.def("upscale_file", &upscale_file, py::arg("input"), py::arg("output"), py::arg("scale"), py::arg("size"),
         py::arg("options"));
   m.def("upscale_rows", &upscale_rows, py::arg("rows"), py::arg("top"), py::arg("image_height"), py::arg("first"),
-        py::arg("end"), py::arg("out_width"), py::arg("out_height"), py::arg("options"));
+        py::arg("end"), py::arg("out_width"), py::arg("out_height"), py::arg("options"),
+        py::arg("statistics") = py::none());
+  m.def("input_statistics", &input_statistics, py::arg("array"));
+  m.def("consistency_margin_needed", &consistency_margin_needed, py::arg("triangle_rows"), py::arg("width"),
+        py::arg("height"), py::arg("out_width"), py::arg("out_height"), py::arg("options"));
   m.def("output_row_of", &ddt::output_row_of, py::arg("y"), py::arg("in_height"), py::arg("out_height"));
   m.def("band_margin_needed", &ddt::band_margin_needed, py::arg("phases"), py::arg("region_rows"));
   m.def("region_rows", &region_rows, py::arg("width"), py::arg("height"), py::arg("options"));

@@ -6,12 +6,16 @@ result equals ddtscale.upscale(array.compute(), scale, **options) bit for
 bit (tests/python/test_dask.py), because the library proves a band with
 wide enough margins exact (ddt::upscale_rows, src/pipeline/upscale.hpp) when
 
-  * model="point" (the consistent reconstruction of the other models,
-    the default "box" among them, solves over the whole image), and
-  * optimizer="lawson" (or no_optimize=True), and
+  * optimizer="lawson" (the default, or no_optimize=True), and
   * the optimizer runs in regions: always on images of more than
     2 * 2^18 triangles (about 512 x 512 pixels), else when region_rows > 0
     is given (to both calls, so that they do the same work).
+
+Under a consistent model (the default "box", "gauss:S", "bicubic") the
+margins also cover the reconstruction's reach, and every band is given the
+whole input's range and code grid (ddtscale's input_statistics), computed
+from the array's blocks before the bands are planned: the input is read
+once for them, then again by the bands.
 
 Otherwise the whole image is one task (exact too, but on one machine; a
 UserWarning says so for images the region schedule would split). A band
@@ -43,12 +47,35 @@ except ImportError as error:  # pragma: no cover - dask is a Debian package (pyt
 __all__ = ["upscale", "upscale_files", "band_plan"]
 
 
+# Rows a triangle of an optimized mesh is planned to span (the library's
+# planned_triangle_rows, src/consistency/consistent_reconstruction.hpp).
+_PLANNED_TRIANGLE_ROWS = 16
+
+
+def _block_statistics(block: np.ndarray) -> Tuple[List[float], List[float], float]:
+    # A module-level function: workers unpickle it by name (the compiled one cannot be pickled).
+    return _ddtscale.input_statistics(block)
+
+
+def _statistics(array: "da.Array") -> Tuple[List[float], List[float], float]:
+    """The whole array's input_statistics, merged from its blocks."""
+    parts = dask.compute(*[dask.delayed(_block_statistics)(block) for block in array.to_delayed().ravel()])
+    low, high, quantum = parts[0]
+    for lo, hi, q in parts[1:]:
+        low = [min(a, b) for a, b in zip(low, lo)]
+        high = [max(a, b) for a, b in zip(high, hi)]
+        # An 8-bit grid lies on the 16-bit one (1/255 = 257/65535).
+        quantum = 0.0 if quantum == 0 or q == 0 else min(quantum, q)
+    return list(low), list(high), float(quantum)
+
+
 def _regions(width: int, height: int, options: dict) -> int:
     return _ddtscale.region_rows(width, height, options)
 
 
 def band_plan(shape: Tuple[int, ...], options: dict, band_rows: Optional[int] = None,
-              margin: Optional[int] = None) -> Tuple[Tuple[int, ...], int]:
+              margin: Optional[int] = None,
+              out_size: Optional[Tuple[int, int]] = None) -> Tuple[Tuple[int, ...], int]:
     """The bands of rows (chunk sizes along axis 0) and the margin upscale() uses.
 
     One band (the whole image) unless the options allow exact bands (see the
@@ -56,21 +83,24 @@ def band_plan(shape: Tuple[int, ...], options: dict, band_rows: Optional[int] = 
     band_rows (default: 16 regions) and at least the margin tall; the
     default margin covers 5 phases of the optimizer (photographs and noise
     take 2 in the automatic regions, docs/scale-out.md), and is at least 64
-    rows (small regions take more phases).
+    rows (small regions take more phases), plus under a consistent model
+    the reconstruction's reach for the output size out_size (height, width;
+    default: twice the input's).
     """
     height, width = shape[0], shape[1]
     regions = _regions(width, height, options)
-    model = options.get("model", _ddtscale.upscale_defaults()["model"])
     optimizer = options.get("optimizer", _ddtscale.upscale_defaults()["optimizer"])
-    banded = regions > 0 and model == "point" and (optimizer == "lawson" or options.get("no_optimize"))
+    banded = regions > 0 and (optimizer == "lawson" or options.get("no_optimize"))
     if not banded:
         if regions > 0:
             warnings.warn("ddtscale.dask: these options are exact only on the whole image "
-                          "(model='point' and optimizer='lawson' split it); it runs as one task", stacklevel=3)
+                          "(optimizer='lawson' splits it); it runs as one task", stacklevel=3)
         return (height,), 0
     if margin is None:
         # Small regions take more phases (6 with 8-row regions in the tests): at least 64 rows.
-        margin = max(_ddtscale.band_margin_needed(5, regions), 64)
+        out_h, out_w = out_size or (2 * height, 2 * width)
+        margin = max(_ddtscale.band_margin_needed(5, regions), 64) + _ddtscale.consistency_margin_needed(
+            _PLANNED_TRIANGLE_ROWS, width, height, out_w, out_h, options)
     rows = max(band_rows or 16 * regions, margin)
     rows = -(-rows // regions) * regions  # whole regions
     bands = [rows] * (height // rows)
@@ -105,7 +135,7 @@ def upscale(array: "da.Array", scale: Optional[float] = None, size: Union[int, T
     options = {k: v for k, v in options.items() if k not in ("width", "height")}  # now in out_h, out_w
     # Options and dtype checked now, not in the first task.
     _ddtscale.upscale(np.zeros((1, 1) + array.shape[2:], array.dtype), 1.0, None, dict(options, quiet=True))
-    bands, margin = band_plan(array.shape, options, band_rows, margin)
+    bands, margin = band_plan(array.shape, options, band_rows, margin, (out_h, out_w))
     array = array.rechunk((bands, -1) + ((-1,) if array.ndim == 3 else ()))
     starts = np.concatenate([[0], np.cumsum(bands)]).astype(int)
     out_rows = [_ddtscale.output_row_of(int(y), height, out_h) for y in starts]
@@ -116,6 +146,9 @@ def upscale(array: "da.Array", scale: Optional[float] = None, size: Union[int, T
             return _ddtscale.upscale(block, None, (out_h, out_w), dict(options))
         return array.map_blocks(whole, chunks=out_chunks, dtype=array.dtype)
 
+    model = options.get("model", _ddtscale.upscale_defaults()["model"])
+    statistics = _statistics(array) if model != "point" else None
+
     def band(block, block_info=None):
         i = block_info[0]["chunk-location"][0]
         first, end = int(starts[i]), int(starts[i + 1])
@@ -123,7 +156,7 @@ def upscale(array: "da.Array", scale: Optional[float] = None, size: Union[int, T
         if block.shape[0] != min(height, end + margin) - top:
             raise RuntimeError(f"ddtscale.dask: band {i} came with {block.shape[0]} rows, not its margins")
         try:
-            return _ddtscale.upscale_rows(block, top, height, first, end, out_w, out_h, dict(options))
+            return _ddtscale.upscale_rows(block, top, height, first, end, out_w, out_h, dict(options), statistics)
         except Exception as error:
             raise type(error)(f"rows {first}..{end} of the image: {error}") from error
 

@@ -97,5 +97,9 @@ int consistency_margin_needed(int triangle_rows, const AcquisitionModel& model, 
                               int out_height, int mesh_steps = ConsistencyOptions{}.mesh_steps);
 // The most rows a triangle of the mesh spans.
 int triangle_rows(const Mesh2& mesh);
+// What to plan a band's margin for before its mesh is made: optimized
+// meshes of Set14's photographs spanned 5 to 13 rows (docs/consistency.md);
+// a band whose mesh spans more is redone or refused with the width needed.
+constexpr int planned_triangle_rows = 16;
 
 }  // namespace ddt

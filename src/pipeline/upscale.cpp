@@ -400,10 +400,12 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
     // the band is redone with a wider one. So every rendered row sees the
     // whole image's mesh (docs/performance.md).
     const int tiles = (H + tile_rows - 1) / tile_rows;
-    // The consistent reconstruction's reach on a mesh whose triangles span
-    // up to a region's rows (it is checked on each tile's own mesh).
+    // The consistent reconstruction's reach, planned (it is checked on each
+    // tile's own mesh).
     int margin = 2 * region_rows + 8 +
-                 (consistent ? consistency_margin_needed(region_rows, options.model, W, H, out_width, out_height) : 0);
+                 (consistent ? consistency_margin_needed(planned_triangle_rows, options.model, W, H, out_width,
+                                                         out_height)
+                             : 0);
     local.tiles = tiles;
     for (int i = 0; i < tiles; ++i) {
       const int y0 = i * tile_rows, y1 = std::min(H, y0 + tile_rows);

@@ -42,6 +42,17 @@ def test_bands_equal_the_in_process_call_on_a_cluster(client):
         np.testing.assert_array_equal(computed, expected)
 
 
+def test_bands_of_the_consistent_models_equal_the_in_process_call_on_a_cluster(client):
+    # Tall enough for bands cut on both sides with the reconstruction's margins.
+    image = (noisy(1200, 48, 3) * 255).astype(np.uint8)
+    array = da.from_array(image, chunks=(100, 48, 3))
+    for model, scale in (("box", 2.0), ("box", 2.5), ("bicubic", 2.0)):
+        result = ddask.upscale(array, scale, model=model, region_rows=8, band_rows=96)
+        assert result.numblocks[0] >= 3
+        np.testing.assert_array_equal(client.compute(result).result(),
+                                      ddtscale.upscale(image, scale, model=model, region_rows=8))
+
+
 def test_uint8_bands_and_the_whole_image_fallback():
     image = (noisy(120, 64) * 255).astype(np.uint8)
     banded = ddask.upscale(da.from_array(image), 3, model="point", region_rows=8, render="linear", cost="variance",
@@ -50,7 +61,7 @@ def test_uint8_bands_and_the_whole_image_fallback():
     np.testing.assert_array_equal(banded.compute(scheduler="threads"),
                                   ddtscale.upscale(image, 3, model="point", region_rows=8, render="linear",
                                                    cost="variance"))
-    # The default box model solves over the whole image: one task, same result.
+    # Without region_rows an image this small has no region schedule: one task, same result.
     whole = ddask.upscale(da.from_array(image, chunks=(30, 64)), 2)
     assert whole.numblocks == (1, 1)
     np.testing.assert_array_equal(whole.compute(scheduler="sync"), ddtscale.upscale(image, 2))
@@ -69,7 +80,12 @@ def test_band_plan_covers_the_image_in_whole_regions():
         bands, margin = ddask.band_plan((height, 50), options, band_rows=40)
         assert sum(bands) == height
         assert all(b % 8 == 0 for b in bands[:-1]) and all(b >= margin for b in bands)
-    assert ddask.band_plan((300, 50), dict(options, model="box")) == ((300,), 0)
+    # The consistent models take wider margins (their reach), annealing no bands.
+    _, point_margin = ddask.band_plan((3000, 50), options)
+    _, box_margin = ddask.band_plan((3000, 50), dict(options, model="box"))
+    assert box_margin > point_margin
+    with pytest.warns(UserWarning, match="one task"):
+        assert ddask.band_plan((300, 50), dict(options, optimizer="anneal")) == ((300,), 0)
 
 
 def test_bad_options_fail_before_any_task():

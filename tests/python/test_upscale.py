@@ -205,13 +205,12 @@ def test_mesh_view_is_written_and_bad_paths_raise_os_error(textured, tmp_path):
         ddtscale.upscale(textured, 2, mesh=str(tmp_path / "no" / "such" / "dir" / "mesh.svg"))
 
 
-def test_a_tiled_image_warns_that_the_model_was_not_applied():
-    image = np.random.default_rng(3).random((200, 16)).astype(np.float32)
-    with pytest.warns(UserWarning, match="tiles"):
-        ddtscale.upscale(image, 2, region_rows=16, tile_rows=64)
+def test_tiles_give_the_untiled_result_under_the_default_model():
+    image = np.random.default_rng(3).random((600, 16)).astype(np.float32)
     with warnings.catch_warnings():
-        warnings.simplefilter("error")
-        ddtscale.upscale(image, 2, region_rows=16, tile_rows=64, quiet=True)
+        warnings.simplefilter("error")  # no fallback to another model, nothing to warn about
+        tiled = ddtscale.upscale(image, 2, region_rows=16, tile_rows=150)
+    np.testing.assert_array_equal(tiled, ddtscale.upscale(image, 2, region_rows=16, tile_rows=-1))
 
 
 def _write_ppm(path, image):
