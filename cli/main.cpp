@@ -16,6 +16,7 @@
 #include "image/mesh_view.hpp"
 #include "util/progress.hpp"
 #include "util/size_limits.hpp"
+#include "pipeline/banded_upscale.hpp"
 #include "pipeline/upscale.hpp"
 #include "util/thread_limit.hpp"
 #include "util/timing.hpp"
@@ -28,6 +29,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <iostream>
 #include <memory>
 
@@ -36,6 +38,57 @@
 namespace {
 
 using ddt::seconds_since;
+
+ddt::UpscaleOptions upscale_options(const UpscaleArguments& args) {
+  ddt::UpscaleOptions options;
+  options.cost = args.cost;
+  options.luma_cost = args.cost_channel == "luma";
+  options.optimize = !args.no_optimize;
+  options.render = ddt::render_by_name(args.render);
+  options.slopes = ddt::slope_limiter_by_name(args.slopes);
+  options.model = ddt::parse_acquisition_model(args.model);
+  options.step_edges = !args.no_step_edges;
+  options.relative_tolerance = args.tolerance;
+  options.optimizer = ddt::optimizer_by_name(args.optimizer);
+  options.anneal = args.anneal;
+  options.tile_rows = args.tile_rows;
+  return options;
+}
+
+// The job read, enlarged and written by bands of rows
+// (pipeline/banded_upscale.hpp): the input is never decoded whole nor the
+// output held whole.
+int run_banded_job(const UpscaleArguments& args, ddt::ImageRowReader& reader, int out_w, int out_h,
+                   ddt::UpscaleOptions options, ddt::Progress& progress, ddt::ProgressBar* bar,
+                   const std::function<void(const std::string&)>& log) {
+  const ddt::ImageHeader& header = reader.header();
+  const ddt::ImageFile& file = reader.file();
+  if (file.pages > 1 && !args.quiet)
+    std::cerr << "ddtscale: warning: '" << args.input << "' holds " << file.pages
+              << " pages or parts; only the first is enlarged\n";
+  options.alpha_channel = header.alpha_channel;
+  const OIIO::ParamValueList metadata = ddt::scaled_metadata(file.metadata, double(out_w) / header.width,
+                                                             double(out_h) / header.height);
+  ddt::ImageBandWriter writer(args.output, out_w, out_h, header.channels, header.format, header.alpha_channel,
+                              &metadata, args.writing.encode);
+  options.output_rows = [&writer](ddt::Image rows, int first_row) { writer.write(std::move(rows), first_row); };
+  const int rows = args.tile_rows > 0 ? args.tile_rows
+                                      : ddt::banded_rows(header.width, header.height, header.channels, out_w, out_h,
+                                                         0.5 * double(ddt::available_memory()));
+  log("read by bands of " + std::to_string(rows) + " rows: " + args.input + ", " + std::to_string(header.width) + "x" +
+      std::to_string(header.height) + "x" + std::to_string(header.channels));
+  const ddt::RowSource source{header.width, header.height, header.channels,
+                              [&reader](int first, int end, float* p) { reader.read(first, end, p); }};
+  const auto t0 = std::chrono::steady_clock::now();
+  const ddt::UpscaleStats stats = ddt::upscale_banded(source, out_w, out_h, options, rows);
+  log("bands: " + std::to_string(stats.tiles) + ", margin " + std::to_string(stats.tile_margin) + " rows, " +
+      std::to_string(seconds_since(t0)) + " s");
+  progress.begin("write");
+  writer.finish();
+  if (bar) bar->stop();
+  if (!args.quiet && !args.verbose) std::cerr << args.output << ": " << out_w << "x" << out_h << "\n";
+  return 0;
+}
 
 // Runs the job `args` (validate_arguments passed); returns the exit status.
 int run_upscale_job(UpscaleArguments args) {
@@ -77,9 +130,15 @@ int run_upscale_job(UpscaleArguments args) {
     };
     progress.begin("read");
     auto t0 = std::chrono::steady_clock::now();
+    ddt::UpscaleOptions options = upscale_options(args);
+    if (args.verbose) options.log = log;
+    options.progress = &progress;
     // The whole job is sized from the input's header, before a pixel is
     // decoded: output size, what the output's format can store, memory.
+    // An image whose job does not fit (or --tile-rows N) is read, enlarged
+    // and written by bands when nothing needs it whole.
     int out_w = 0, out_h = 0, compare_gap = 0;
+    bool banded = false;
     ddt::ImageReadLimits limits;
     limits.max_pixels = args.max_input_pixels;
     limits.check = [&](const ddt::ImageHeader& header) {
@@ -89,6 +148,17 @@ int run_upscale_job(UpscaleArguments args) {
       ddt::check_image_writable(args.output, written_w, out_h, header.channels, header.format, header.alpha_channel,
                                 args.writing.encode);
       if (!args.mesh_view.empty()) ddt::check_region(roi, header.width, header.height);
+      const double whole_job = image_job_bytes(args, header, out_w, out_h);
+      const bool can_band = !args.writing.no_stream && args.compare.empty() && args.mesh_view.empty() &&
+                            options.optimizer == ddt::Optimizer::lawson && args.tile_rows >= 0 &&
+                            ddt::optimizer_region_rows(header.width, header.height, options) > 0;
+      banded = can_band && (args.tile_rows > 0 || whole_job > 0.9 * double(ddt::available_memory()));
+      if (!banded) ddt::check_memory_fits("this job", whole_job);
+    };
+    std::unique_ptr<ddt::ImageRowReader> reader = std::make_unique<ddt::ImageRowReader>(args.input, limits);
+    if (banded) return run_banded_job(args, *reader, out_w, out_h, options, progress, bar.get(), log);
+    reader.reset();
+    limits.check = [&](const ddt::ImageHeader& header) {
       ddt::check_memory_fits("this job", image_job_bytes(args, header, out_w, out_h));
     };
     ddt::ImageFile file = ddt::read_image(args.input, limits);
@@ -98,21 +168,7 @@ int run_upscale_job(UpscaleArguments args) {
       std::cerr << "ddtscale: warning: '" << args.input << "' holds " << (file.pages > 2 ? std::to_string(file.pages) : "2 or more")
                 << " pages or parts; only the first is enlarged\n";
 
-    ddt::UpscaleOptions options;
-    options.cost = args.cost;
-    options.luma_cost = args.cost_channel == "luma";
     options.alpha_channel = file.alpha_channel;
-    options.optimize = !args.no_optimize;
-    options.render = ddt::render_by_name(args.render);
-    options.slopes = ddt::slope_limiter_by_name(args.slopes);
-    options.model = ddt::parse_acquisition_model(args.model);
-    options.step_edges = !args.no_step_edges;
-    options.relative_tolerance = args.tolerance;
-    options.optimizer = ddt::optimizer_by_name(args.optimizer);
-    options.anneal = args.anneal;
-    if (args.verbose) options.log = log;
-    options.progress = &progress;
-    options.tile_rows = args.tile_rows;
     // Streamed (io/band_writer.hpp): bands of output rows are encoded as
     // they are rendered, on a thread of their own; --compare joins two
     // whole images, so it writes at the end.

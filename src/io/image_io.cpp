@@ -107,7 +107,13 @@ OIIO::ParamValueList scaled_metadata(const OIIO::ParamValueList& metadata, doubl
   return out;
 }
 
-ImageFile read_image(const std::string& path, const ImageReadLimits& limits) {
+namespace {
+
+// Opens `path` and checks its header (size, and with decode_whole the
+// memory of decoding it whole; then limits.check); `file` gets everything
+// but the pixels.
+std::unique_ptr<OIIO::ImageInput> open_checked(const std::string& path, const ImageReadLimits& limits,
+                                               bool decode_whole, ImageFile& file) {
   check_regular_file(path);
   // OpenEXR 3.1's C++ header reader sizes a string attribute from the file
   // and allocates it before reading it: a 405-byte file (found by
@@ -135,13 +141,12 @@ ImageFile read_image(const std::string& path, const ImageReadLimits& limits) {
     check_size_limit(input + ": a tile", std::to_string(spec.tile_width) + "x" + std::to_string(spec.tile_height),
                      checked_product({spec.tile_width, std::max(1, spec.tile_height), std::max(1, spec.tile_depth)}),
                      limits.max_pixels, limits.option);
-  check_memory_fits("decoding " + input + " (" + std::to_string(spec.width) + "x" + std::to_string(spec.height) + "x" +
-                        std::to_string(spec.nchannels) + ")",
-                    4.0 * spec.width * spec.height * spec.nchannels);
+  if (decode_whole)
+    check_memory_fits("decoding " + input + " (" + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                          "x" + std::to_string(spec.nchannels) + ")",
+                      4.0 * spec.width * spec.height * spec.nchannels);
   if (limits.check)
     limits.check(ImageHeader{spec.width, spec.height, spec.nchannels, sample_format_of(spec.format), spec.alpha_channel});
-  const QuietLibraries quiet;
-  ImageFile file;
   for (const OIIO::ParamValue& p : spec.extra_attribs)
     if (carried(p.name().string())) file.metadata.push_back(p);
   // A data window (the pixels read) placed in a display window other than
@@ -156,22 +161,55 @@ ImageFile read_image(const std::string& path, const ImageReadLimits& limits) {
   file.format = sample_format_of(spec.format);
   file.alpha_channel = spec.alpha_channel;
   if (spec.alpha_channel >= 0) file.alpha_name = spec.channelnames[spec.alpha_channel];
-  file.image = Image(spec.width, spec.height, spec.nchannels);
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, file.image.pixels.data())) {
-    std::string msg = first_line(in->geterror());
+  return in;
+}
+
+// A read that succeeds with a message is a damaged file decoded anyway (a
+// truncated JPEG comes back grey below the cut, "Premature end of JPEG
+// file"): refused rather than enlarged; so are NaN and infinite samples.
+void check_decoded(OIIO::ImageInput& in, bool ok, const std::string& path, const float* begin, const float* end) {
+  if (!ok) {
+    std::string msg = first_line(in.geterror());
     throw Error("cannot read '" + path + "': " + (msg.empty() ? "corrupt image data" : msg));
   }
-  // A read that succeeds with a message is a damaged file decoded anyway
-  // (a truncated JPEG comes back grey below the cut, "Premature end of
-  // JPEG file"): refuse it rather than enlarge the damage.
-  if (const std::string damage = first_line(in->geterror()); !damage.empty())
+  if (const std::string damage = first_line(in.geterror()); !damage.empty())
     throw Error("cannot read '" + path + "': " + damage);
-  for (float v : file.image.pixels)
-    if (!std::isfinite(v)) throw Error("cannot read '" + path + "': the image holds NaN or infinite samples");
+  for (const float* v = begin; v != end; ++v)
+    if (!std::isfinite(*v)) throw Error("cannot read '" + path + "': the image holds NaN or infinite samples");
+}
+
+}  // namespace
+
+ImageFile read_image(const std::string& path, const ImageReadLimits& limits) {
+  ImageFile file;
+  std::unique_ptr<OIIO::ImageInput> in = open_checked(path, limits, true, file);
+  const OIIO::ImageSpec& spec = in->spec();
+  const QuietLibraries quiet;
+  file.image = Image(spec.width, spec.height, spec.nchannels);
+  const bool ok = in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, file.image.pixels.data());
+  check_decoded(*in, ok, path, file.image.pixels.data(), file.image.pixels.data() + file.image.pixels.size());
   // Further pages or parts, counted last: seeking changes in->spec().
   file.pages = in->spec().get_int_attribute("oiio:subimages", 0);
   if (file.pages < 1) file.pages = in->seek_subimage(1, 0) ? 2 : 1;
   return file;
+}
+
+ImageRowReader::ImageRowReader(const std::string& path, const ImageReadLimits& limits) : path_(path) {
+  in_ = open_checked(path, limits, false, file_);
+  const OIIO::ImageSpec& spec = in_->spec();
+  header_ = ImageHeader{spec.width, spec.height, spec.nchannels, file_.format, file_.alpha_channel};
+  file_.pages = spec.get_int_attribute("oiio:subimages", 1);
+}
+
+ImageRowReader::~ImageRowReader() = default;
+
+void ImageRowReader::read(int first, int end, float* rows) {
+  if (first < 0 || end > header_.height || first > end) throw Error("cannot read rows outside '" + path_ + "'");
+  if (first == end) return;
+  const QuietLibraries quiet;
+  const int y0 = in_->spec().y;  // the data window's first row
+  const bool ok = in_->read_scanlines(0, 0, y0 + first, y0 + end, 0, 0, header_.channels, OIIO::TypeDesc::FLOAT, rows);
+  check_decoded(*in_, ok, path_, rows, rows + static_cast<std::size_t>(end - first) * header_.width * header_.channels);
 }
 
 void check_output_path(const std::string& output, const std::string& input, bool image_format) {

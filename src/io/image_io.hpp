@@ -16,6 +16,7 @@
 #include <OpenImageIO/imagebuf.h>
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -59,6 +60,32 @@ struct ImageReadLimits {
 
 // Reads any image OpenImageIO reads (first subimage, first MIP level).
 ImageFile read_image(const std::string& path, const ImageReadLimits& limits = {});
+
+// The same file read by rows, for images too large to decode whole
+// (pipeline/banded_upscale.hpp): the header checked as read_image checks it
+// (but for the memory of the whole decoded image); rows read in any order,
+// fastest top to bottom (formats without random access decode again from
+// the top for rows above the last read). Errors: throws ddt::Error as
+// read_image does, at construction or at the read.
+class ImageRowReader {
+ public:
+  ImageRowReader(const std::string& path, const ImageReadLimits& limits = {});
+  ~ImageRowReader();
+  ImageRowReader(const ImageRowReader&) = delete;
+  ImageRowReader& operator=(const ImageRowReader&) = delete;
+
+  const ImageHeader& header() const { return header_; }
+  // The file's metadata, format, alpha and pages; its image is empty.
+  const ImageFile& file() const { return file_; }
+  // Rows [first, end) as floats, width * channels a row.
+  void read(int first, int end, float* rows);
+
+ private:
+  std::string path_;
+  std::unique_ptr<OIIO::ImageInput> in_;
+  ImageFile file_;
+  ImageHeader header_;
+};
 
 // Writes `image` to `path`; the format follows the extension. EXR is written
 // as half floats from 8-bit and half sources, else 32-bit floats

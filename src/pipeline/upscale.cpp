@@ -462,7 +462,8 @@ int output_row_of(int y, int in_height, int out_height) { return first_output_ro
 int band_margin_needed(int phases, int region_rows) { return (phases + 1) * ((region_rows + 1) / 2) + 8; }
 
 Image upscale_rows(const Image& rows, int top, int image_height, int first, int end, int out_width, int out_height,
-                   const UpscaleOptions& options, UpscaleStats* stats, const InputStatistics* statistics) {
+                   const UpscaleOptions& options, UpscaleStats* stats, const InputStatistics* statistics,
+                   int* margin_needed) {
   if (rows.empty() || rows.width <= 0 || rows.height <= 0) throw Error("the input image is empty");
   if (out_width < 1 || out_height < 1) throw Error("the output size must be at least 1x1");
   const int bottom = top + rows.height;
@@ -495,6 +496,8 @@ Image upscale_rows(const Image& rows, int top, int image_height, int first, int 
                                   region_triangles, region_rows, "", [&]() -> Image& { return out; }, local,
                                   whole ? std::numeric_limits<int>::max() : local.tile_margin, statistics, &needed);
   take_optimizer_stats(ls, local);
+  if (margin_needed) *margin_needed = needed;
+  if (!whole && needed > local.tile_margin && margin_needed) return Image();
   if (!whole && needed > local.tile_margin)
     throw Error("a margin of " + std::to_string(local.tile_margin) + " rows is too narrow for the " +
                 std::to_string(ls.iterations) + " phases of the optimizer" +

@@ -52,10 +52,11 @@ Mesh2 upscale_mesh(const Image& src, const UpscaleOptions& options = {}, Upscale
 // consistency_margin_needed() rows (consistent_reconstruction.hpp); a band
 // of a consistent model also needs the whole input's `statistics`.
 // Throws ddt::Error otherwise (too narrow a margin: after the work, with the
-// width needed).
+// width needed; or, when margin_needed is given, sets it and returns an
+// empty image).
 Image upscale_rows(const Image& rows, int top, int image_height, int first, int end, int out_width, int out_height,
                    const UpscaleOptions& options = {}, UpscaleStats* stats = nullptr,
-                   const InputStatistics* statistics = nullptr);
+                   const InputStatistics* statistics = nullptr, int* margin_needed = nullptr);
 // The first output row sampled at or below input row y.
 int output_row_of(int y, int in_height, int out_height);
 // Rows of margin a band needs on a cut side for `phases` phases of the

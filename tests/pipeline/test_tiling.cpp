@@ -6,6 +6,7 @@
 #include "eval/synthetic_scenes.hpp"
 #include "test_support.hpp"
 #include "image/triangulation.hpp"
+#include "pipeline/banded_upscale.hpp"
 #include "pipeline/upscale.hpp"
 #include "consistency/consistent_reconstruction.hpp"
 #include "consistency/input_statistics.hpp"
@@ -180,4 +181,54 @@ TEST_CASE("upscale_rows: refuses what a band cannot reproduce") {
   const Image whole = upscale(in, 80, 120, UpscaleOptions{});
   const Image band = upscale_rows(in, 0, 60, 0, 60, 80, 120, UpscaleOptions{});
   CHECK(differing(whole, band) == 0);
+}
+
+TEST_CASE("upscale_banded: an image read and enlarged by bands is upscale()'s, reading each row twice") {
+  const int W = 60, H = 700;
+  const Image in = textured(W, H);
+  for (const char* model : {"box", "point"}) {
+    CAPTURE(model);
+    UpscaleOptions opt;
+    opt.model = parse_acquisition_model(model);
+    opt.region_rows = 8;
+    const Image whole = upscale(in, 2 * W, 2 * H, opt);
+    std::vector<int> reads(H, 0);
+    int last_end = 0, backwards = 0;
+    const RowSource source{W, H, 3, [&](int first, int end, float* rows) {
+                             backwards += first < last_end && first != 0;
+                             last_end = end;
+                             for (int y = first; y < end; ++y) ++reads[y];
+                             std::copy(in.pixels.begin() + static_cast<std::ptrdiff_t>(in.index(0, first)),
+                                       in.pixels.begin() + static_cast<std::ptrdiff_t>(in.index(0, end - 1) + W * 3),
+                                       rows);
+                           }};
+    Image gathered(2 * W, 2 * H, 3, -1.0f);
+    int next = 0;
+    opt.output_rows = [&](Image rows, int first_row) {
+      CHECK(first_row == next);
+      std::copy(rows.pixels.begin(), rows.pixels.end(),
+                gathered.pixels.begin() + static_cast<std::ptrdiff_t>(gathered.index(0, first_row)));
+      next = first_row + rows.height;
+    };
+    int reruns = 0;  // bands redone with a wider margin re-read the rows above
+    opt.log = [&](const std::string& line) { reruns += line.find("again") != std::string::npos; };
+    const UpscaleStats stats = upscale_banded(source, 2 * W, 2 * H, opt, 100);
+    CHECK(stats.tiles == 7);
+    CHECK(next == 2 * H);
+    CHECK(gathered.pixels == whole.pixels);
+    CHECK(backwards <= reruns);  // top to bottom, each pass
+    // The consistent model reads the input once for its statistics, then by bands.
+    const int passes = opt.model.kind == AcquisitionModel::Kind::point ? 1 : 2;
+    CHECK(*std::min_element(reads.begin(), reads.end()) == passes);
+    CHECK(*std::max_element(reads.begin(), reads.end()) <= passes + reruns);
+    MESSAGE(model << ": " << reruns << " bands redone with a wider margin");
+  }
+  // A source that fails stops the job with its error.
+  UpscaleOptions opt;
+  opt.region_rows = 8;
+  opt.output_rows = [](Image, int) {};
+  const RowSource broken{W, H, 3, [](int, int, float*) { throw Error("cannot read 'x.png': damaged"); }};
+  CHECK_THROWS_WITH_AS(upscale_banded(broken, 2 * W, 2 * H, opt, 100), "cannot read 'x.png': damaged", Error);
+  opt.optimizer = Optimizer::anneal;
+  CHECK_THROWS_WITH_AS(upscale_banded(broken, 2 * W, 2 * H, opt, 100), doctest::Contains("region schedule"), Error);
 }

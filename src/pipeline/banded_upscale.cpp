@@ -1,0 +1,128 @@
+#include "pipeline/banded_upscale.hpp"
+
+#include "consistency/consistent_reconstruction.hpp"
+#include "consistency/input_statistics.hpp"
+#include "image/image_mesh.hpp"
+#include "pipeline/upscale.hpp"
+#include "util/error.hpp"
+
+#include <algorithm>
+#include <string>
+
+namespace ddt {
+namespace {
+
+// The whole source's statistics, read in chunks of rows.
+InputStatistics statistics_of(const RowSource& source, Progress* progress) {
+  constexpr int chunk = 256;
+  if (progress) progress->begin("statistics", source.height);
+  InputStatistics all;
+  Image rows(source.width, std::min(chunk, source.height), source.channels);
+  for (int first = 0; first < source.height; first += chunk) {
+    const int end = std::min(source.height, first + chunk);
+    rows.height = end - first;
+    rows.pixels.resize(static_cast<std::size_t>(source.width) * source.channels * rows.height);
+    source.read(first, end, rows.pixels.data());
+    const InputStatistics part = input_statistics(rows);
+    all = first == 0 ? part : merge(all, part);
+    if (progress) progress->set(end);
+  }
+  return all;
+}
+
+}  // namespace
+
+int banded_rows(int width, int height, int channels, int out_width, int out_height, double budget_bytes) {
+  // Per input row of a band: the mesh and the optimizer's arrays (about
+  // 250 bytes a pixel), the band's output rows twice (drawn, and queued
+  // for the encoder), the reconstruction's vectors (about 80 bytes a
+  // channel and pixel).
+  const double sy = static_cast<double>(out_height) / height;
+  const double row_bytes = (250.0 + 80.0 * channels) * width + 2 * 4.0 * channels * out_width * sy;
+  const int rows = static_cast<int>(budget_bytes / row_bytes) / 2;  // half for the margins
+  return std::clamp(rows, 256, std::max(256, height));
+}
+
+UpscaleStats upscale_banded(const RowSource& source, int out_width, int out_height, const UpscaleOptions& options,
+                            int band_rows) {
+  const int W = source.width, H = source.height, C = source.channels;
+  if (W < 1 || H < 1 || C < 1) throw Error("the input image is empty");
+  if (!options.output_rows) throw Error("upscale_banded: no receiver of the output rows");
+  const int region_rows = optimizer_region_rows(W, H, options);
+  if (options.optimizer != Optimizer::lawson || region_rows <= 0)
+    throw Error("an image read by bands needs Lawson's region schedule (--optimizer lawson; --region-rows on a "
+                "small image)");
+  const bool consistent =
+      options.model.kind != AcquisitionModel::Kind::point && out_width >= W && out_height >= H;
+  Progress* progress = options.progress;
+  const InputStatistics statistics = consistent ? statistics_of(source, progress) : InputStatistics{};
+
+  // Each band runs without the caller's progress: the bar counts rows done.
+  UpscaleOptions band_options = options;
+  band_options.progress = nullptr;
+  band_options.output_rows = nullptr;  // each band's rows come back whole, and are handed out here
+  band_options.tile_rows = -1;
+  band_rows = std::max(1, band_rows);
+  int margin = 2 * region_rows + 8 +
+               (consistent ? consistency_margin_needed(planned_triangle_rows, options.model, W, H, out_width,
+                                                       out_height)
+                           : 0);
+  if (progress) progress->begin("bands", H);
+  UpscaleStats total;
+  const std::size_t row_floats = static_cast<std::size_t>(W) * C;
+  // The rows held: [held_top, held_top + held.height).
+  Image held(W, 0, C);
+  int held_top = 0;
+  const int bands = (H + band_rows - 1) / band_rows;
+  for (int i = 0; i < bands; ++i) {
+    const int first = i * band_rows, end = std::min(H, first + band_rows);
+    for (;;) {
+      const int top = std::max(0, first - margin), bottom = std::min(H, end + margin);
+      // Keep the rows still needed, read the others.
+      Image rows(W, bottom - top, C);
+      const int keep_top = std::max(top, held_top), keep_end = std::min(bottom, held_top + held.height);
+      if (keep_top < keep_end)
+        std::copy(held.pixels.begin() + static_cast<std::ptrdiff_t>(row_floats * (keep_top - held_top)),
+                  held.pixels.begin() + static_cast<std::ptrdiff_t>(row_floats * (keep_end - held_top)),
+                  rows.pixels.begin() + static_cast<std::ptrdiff_t>(row_floats * (keep_top - top)));
+      if (keep_top >= keep_end) {
+        source.read(top, bottom, rows.pixels.data());
+      } else {
+        if (top < keep_top) source.read(top, keep_top, rows.pixels.data());
+        if (keep_end < bottom)
+          source.read(keep_end, bottom, rows.pixels.data() + row_floats * (keep_end - top));
+      }
+      held = std::move(rows);
+      held_top = top;
+      if (options.log)
+        options.log("band " + std::to_string(i + 1) + "/" + std::to_string(bands) + ": rows " + std::to_string(first) +
+                    ".." + std::to_string(end) + " with " + std::to_string(margin) + " rows of margin");
+      UpscaleStats part;
+      int needed = 0;
+      Image out = upscale_rows(held, top, H, first, end, out_width, out_height, band_options, &part,
+                               consistent ? &statistics : nullptr, &needed);
+      if (out.empty()) {  // too narrow a margin for this band's mesh
+        margin = std::max(margin + region_rows, needed + region_rows);
+        if (options.log) options.log("band " + std::to_string(i + 1) + ": margin too narrow, again with " +
+                                     std::to_string(margin) + " rows");
+        continue;
+      }
+      options.output_rows(std::move(out), output_row_of(first, H, out_height));
+      total += static_cast<const StageSeconds&>(part);
+      total.triangles += part.triangles;
+      total.iterations = std::max(total.iterations, part.iterations);
+      total.flips += part.flips;
+      total.tests += part.tests;
+      total.cost_before += part.cost_before;
+      total.cost_after += part.cost_after;
+      total.regions = part.regions;
+      break;
+    }
+    if (progress) progress->set(end);
+  }
+  total.tiles = bands;
+  total.tile_margin = margin;
+  return total;
+}
+
+}  // namespace ddt

@@ -1,0 +1,40 @@
+#pragma once
+// ddt::upscale_banded — an image enlarged band by band from a source of
+// rows, holding neither the whole input nor the whole output: what an
+// image larger than memory takes.
+//
+// The source is read twice, top to bottom: once for the whole input's
+// statistics (the consistent reconstruction's, input_statistics.hpp), then
+// by bands of band_rows rows with margins, each enlarged by upscale_rows
+// and its output rows handed to options.output_rows. A band whose margin
+// proves too narrow is redone with the width it needed. The rows handed
+// out are upscale()'s, bit for bit.
+//
+// Requires: options.output_rows set; Lawson's region schedule (options
+// .optimizer lawson, and region_rows > 0 or an image large enough for
+// automatic regions). Throws ddt::Error otherwise, and for the source's
+// errors.
+
+#include "ddtscale/ddtscale.hpp"
+#include "util/image.hpp"
+
+#include <functional>
+
+namespace ddt {
+
+// Rows [first, end) of an image of width x height x channels, into `rows`
+// (width * channels floats a row). Called with increasing ranges, and
+// again from the top for the second pass (or for rows a band lost).
+struct RowSource {
+  int width = 0, height = 0, channels = 0;
+  std::function<void(int first, int end, float* rows)> read;
+};
+
+// The input rows per band for a memory budget of `budget_bytes` (at least
+// a few hundred rows: a band's margins are a few hundred).
+int banded_rows(int width, int height, int channels, int out_width, int out_height, double budget_bytes);
+
+UpscaleStats upscale_banded(const RowSource& source, int out_width, int out_height, const UpscaleOptions& options,
+                            int band_rows);
+
+}  // namespace ddt
