@@ -195,6 +195,10 @@ for model in box point; do
   run_ok "whole $model" "$work/tall.png" "$work/w.png" --scale 2 --model "$model" --tile-rows -1
   cmp -s "$work/b.png" "$work/w.png" && ok || bad "read by bands ($model) differs from the whole image's enlargement"
 done
+# A tiled input is read by rows of tiles.
+oiiotool "$work/tall.png" --tile 64 64 -o "$work/tall_tiled.tif"
+run_ok "banded tiled tif" "$work/tall_tiled.tif" "$work/bt.png" --scale 2 --model point --tile-rows 256  # w.png: point, above
+cmp -s "$work/bt.png" "$work/w.png" && ok || bad "a tiled TIFF read by bands differs"
 
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

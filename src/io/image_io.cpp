@@ -207,9 +207,25 @@ void ImageRowReader::read(int first, int end, float* rows) {
   if (first < 0 || end > header_.height || first > end) throw Error("cannot read rows outside '" + path_ + "'");
   if (first == end) return;
   const QuietLibraries quiet;
-  const int y0 = in_->spec().y;  // the data window's first row
-  const bool ok = in_->read_scanlines(0, 0, y0 + first, y0 + end, 0, 0, header_.channels, OIIO::TypeDesc::FLOAT, rows);
-  check_decoded(*in_, ok, path_, rows, rows + static_cast<std::size_t>(end - first) * header_.width * header_.channels);
+  const OIIO::ImageSpec& spec = in_->spec();
+  const std::size_t row_floats = static_cast<std::size_t>(header_.width) * header_.channels;
+  const int C = header_.channels;
+  bool ok = false;
+  if (spec.tile_width > 0 && spec.tile_height > 0) {
+    // Tiled files are read by whole rows of tiles (OpenImageIO's scanline
+    // reads do not take them), then the rows asked for copied out.
+    const int th = spec.tile_height;
+    const int a = first / th * th, b = std::min(header_.height, (end + th - 1) / th * th);
+    std::vector<float> tiles(row_floats * (b - a));
+    ok = in_->read_tiles(0, 0, spec.x, spec.x + spec.width, spec.y + a, spec.y + b, spec.z, spec.z + 1, 0, C,
+                         OIIO::TypeDesc::FLOAT, tiles.data());
+    if (ok)
+      std::copy(tiles.begin() + static_cast<std::ptrdiff_t>(row_floats * (first - a)),
+                tiles.begin() + static_cast<std::ptrdiff_t>(row_floats * (end - a)), rows);
+  } else {
+    ok = in_->read_scanlines(0, 0, spec.y + first, spec.y + end, spec.z, 0, C, OIIO::TypeDesc::FLOAT, rows);
+  }
+  check_decoded(*in_, ok, path_, rows, rows + row_floats * (end - first));
 }
 
 void check_output_path(const std::string& output, const std::string& input, bool image_format) {
