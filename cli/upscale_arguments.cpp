@@ -98,8 +98,9 @@ UpscaleCommandLine parse_upscale_command_line(int argc, const char* const* argv)
   app.add_option("--threads", args.threads, "threads to use (default: all cores; more than the cores are not used)")
       ->check(whole_number(0, 4096));
   app.add_option("--tile-rows", args.tile_rows,
-                 "process the image in bands of this many input rows (same output; default: only when it would "
-                 "not fit in half the memory; -1: never)")
+                 "process the image in bands of this many input rows, read, enlarged and written band by band "
+                 "where the format allows (same output, less memory; default: only when the job would not fit "
+                 "in memory; -1: never)")
       ->check(whole_number(-1, std::numeric_limits<int>::max()));
   add_batch_options(app, line.batch);
   add_output_options(app, line.args.writing);
