@@ -146,6 +146,7 @@ def upscale(array: "da.Array", scale: Optional[float] = None, size: Union[int, T
             return _ddtscale.upscale(block, None, (out_h, out_w), dict(options))
         return array.map_blocks(whole, chunks=out_chunks, dtype=array.dtype)
 
+    # The whole input's statistics for the consistent models (one read of it).
     model = options.get("model", _ddtscale.upscale_defaults()["model"])
     statistics = _statistics(array) if model != "point" else None
 

@@ -414,7 +414,9 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
                   first_output_row(y1, H, out_height)};
         UpscaleStats part;
         const std::string label = "tile " + std::to_string(i + 1) + "/" + std::to_string(tiles) + " ";
-        const int cut_margin = std::min(band.top > 0 ? y0 - band.top : H, band.bottom < H ? band.bottom - y1 : H);
+        // The rows of margin on a cut side; none cut: any margin is enough.
+        constexpr int uncut = std::numeric_limits<int>::max();
+        const int cut_margin = std::min(band.top > 0 ? y0 - band.top : uncut, band.bottom < H ? band.bottom - y1 : uncut);
         int needed = 0;
         const LawsonStats ls = run_band(src, 0, H, band, out_width, out_height, band_options, cost, drive, region_triangles,
                                         region_rows, label, output, part, cut_margin, &statistics, &needed);
@@ -488,17 +490,19 @@ Image upscale_rows(const Image& rows, int top, int image_height, int first, int 
   band.out_origin = band.out_first;
   Image out(out_width, band.out_end - band.out_first, rows.channels);
   UpscaleStats local;
-  local.tile_margin = std::min(top > 0 ? first - top : image_height, bottom < image_height ? bottom - end : image_height);
+  constexpr int uncut = std::numeric_limits<int>::max();  // a side at the image's border
+  const int cut_margin = std::min(top > 0 ? first - top : uncut, bottom < image_height ? bottom - end : uncut);
+  local.tile_margin = cut_margin == uncut ? 0 : cut_margin;
   UpscaleOptions band_options = options;
   if (!consistent) band_options.model.kind = AcquisitionModel::Kind::point;
   int needed = 0;
   const LawsonStats ls = run_band(rows, top, image_height, band, out_width, out_height, band_options, cost, drive,
                                   region_triangles, region_rows, "", [&]() -> Image& { return out; }, local,
-                                  whole ? std::numeric_limits<int>::max() : local.tile_margin, statistics, &needed);
+                                  cut_margin, statistics, &needed);
   take_optimizer_stats(ls, local);
   if (margin_needed) *margin_needed = needed;
-  if (!whole && needed > local.tile_margin && margin_needed) return Image();
-  if (!whole && needed > local.tile_margin)
+  if (needed > cut_margin && margin_needed) return Image();
+  if (needed > cut_margin)
     throw Error("a margin of " + std::to_string(local.tile_margin) + " rows is too narrow for the " +
                 std::to_string(ls.iterations) + " phases of the optimizer" +
                 (consistent ? " and the consistent reconstruction" : "") + ": give at least " +

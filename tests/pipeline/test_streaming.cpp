@@ -46,14 +46,16 @@ Image streamed(const Image& in, int ow, int oh, UpscaleOptions opt, int& bands) 
 
 }  // namespace
 
-TEST_CASE("upscale: streamed rows equal the whole output, point model, whole and in tiles") {
+TEST_CASE("upscale: streamed rows equal the whole output, whole and in tiles, point and box models") {
   const Image in = textured(120, 100);
+  for (const char* model : {"point", "box"})
   for (const char* render : {"linear", "cubic"})
     for (int tile_rows : {-1, 29}) {
+      CAPTURE(model);
       CAPTURE(render);
       CAPTURE(tile_rows);
       UpscaleOptions opt;
-      opt.model.kind = AcquisitionModel::Kind::point;
+      opt.model = parse_acquisition_model(model);
       opt.render = render_by_name(render);
       opt.region_rows = 8;
       opt.tile_rows = tile_rows;
