@@ -5,6 +5,7 @@
 #include "image/image_mesh.hpp"
 #include "pipeline/upscale.hpp"
 #include "util/error.hpp"
+#include "util/size_limits.hpp"
 
 #include <algorithm>
 #include <string>
@@ -30,15 +31,19 @@ InputStatistics statistics_of(const RowSource& source, Progress* progress) {
   return all;
 }
 
+// Per input row of a band: the mesh and the optimizer's arrays (about 250
+// bytes a pixel), the band's output rows twice (drawn, and queued for the
+// encoder), the reconstruction's vectors (about 80 bytes a channel and
+// pixel).
+double band_row_bytes(int width, int height, int channels, int out_width, int out_height) {
+  const double sy = static_cast<double>(out_height) / height;
+  return (250.0 + 80.0 * channels) * width + 2 * 4.0 * channels * out_width * sy;
+}
+
 }  // namespace
 
 int banded_rows(int width, int height, int channels, int out_width, int out_height, double budget_bytes) {
-  // Per input row of a band: the mesh and the optimizer's arrays (about
-  // 250 bytes a pixel), the band's output rows twice (drawn, and queued
-  // for the encoder), the reconstruction's vectors (about 80 bytes a
-  // channel and pixel).
-  const double sy = static_cast<double>(out_height) / height;
-  const double row_bytes = (250.0 + 80.0 * channels) * width + 2 * 4.0 * channels * out_width * sy;
+  const double row_bytes = band_row_bytes(width, height, channels, out_width, out_height);
   const int rows = static_cast<int>(budget_bytes / row_bytes) / 2;  // half for the margins
   return std::clamp(rows, 256, std::max(256, height));
 }
@@ -55,18 +60,21 @@ UpscaleStats upscale_banded(const RowSource& source, int out_width, int out_heig
   const bool consistent =
       options.model.kind != AcquisitionModel::Kind::point && out_width >= W && out_height >= H;
   Progress* progress = options.progress;
-  const InputStatistics statistics = consistent ? statistics_of(source, progress) : InputStatistics{};
 
   // Each band runs without the caller's progress: the bar counts rows done.
   UpscaleOptions band_options = options;
   band_options.progress = nullptr;
   band_options.output_rows = nullptr;  // each band's rows come back whole, and are handed out here
   band_options.tile_rows = -1;
-  band_rows = std::max(1, band_rows);
+  band_rows = std::clamp(band_rows, 1, H);
   int margin = 2 * region_rows + 8 +
                (consistent ? consistency_margin_needed(planned_triangle_rows, options.model, W, H, out_width,
                                                        out_height)
                            : 0);
+  check_memory_fits("a band of " + std::to_string(band_rows) + " rows with " + std::to_string(margin) +
+                        " rows of margin each side",
+                    band_row_bytes(W, H, C, out_width, out_height) * std::min<double>(H, band_rows + 2.0 * margin));
+  const InputStatistics statistics = consistent ? statistics_of(source, progress) : InputStatistics{};
   if (progress) progress->begin("bands", H);
   UpscaleStats total;
   const std::size_t row_floats = static_cast<std::size_t>(W) * C;
