@@ -2,10 +2,11 @@
 """ddtscale.dask.upscale against the in-process call on a large image.
 
     PYTHONPATH=build/python python3 bench/dask_bands.py [--tiles 6] [--scale 2] [--workers 2] [--band-rows N]
+        [--model box]
 
 The image: images/astronaut_face.png mirrored into a 256 x 256 tile,
 repeated tiles x tiles times (6: 1536 x 1536 RGB, uint8). Runs
-ddtscale.upscale(image, scale, model="point") in this process and
+ddtscale.upscale(image, scale, model=MODEL) in this process and
 ddtscale.dask.upscale on a distributed.LocalCluster of --workers worker
 processes (one thread each, threads=1), and prints the optimizer's phases,
 the bands, the margin, both wall times and the number of output samples
@@ -48,14 +49,16 @@ def main():
     parser.add_argument("--scale", type=float, default=2)
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--band-rows", type=int, help="input rows per band (default: ddtscale.dask's)")
+    parser.add_argument("--model", default="box", help="acquisition model (default: box, the library's)")
     args = parser.parse_args()
     image = tile_image(args.tiles)
-    options = dict(model="point", threads=1)
+    options = dict(model=args.model, threads=1)
     phases = []
     start = time.perf_counter()
     expected = ddtscale.upscale(image, args.scale, **options)
     in_process = time.perf_counter() - start
-    bands, margin = ddask.band_plan(image.shape, options, args.band_rows)
+    out_size = tuple(expected.shape[:2])
+    bands, margin = ddask.band_plan(image.shape, options, args.band_rows, None, out_size)
     with distributed.LocalCluster(n_workers=args.workers, threads_per_worker=1, dashboard_address=None) as cluster, \
             distributed.Client(cluster) as client:
         result = ddask.upscale(da.from_array(image), args.scale, band_rows=args.band_rows, **options)
