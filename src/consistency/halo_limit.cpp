@@ -77,8 +77,6 @@ double mean_keeping_shift(const std::vector<float>& o, double mean, double lo, d
 HaloLimiter::HaloLimiter(const Image& src, const InputStatistics& statistics, const RowBand& band)
     : src_(src), statistics_(statistics), band_(band) {}
 
-long long limit_halos(Image& out, const Image& src) { return HaloLimiter(src, input_statistics(src)).limit(out); }
-
 long long HaloLimiter::limit(Image& out, int first_row, int end_row) const {
   const Image& src = src_;
   const std::vector<float>&image_min = statistics_.min, &image_max = statistics_.max;

@@ -1,5 +1,5 @@
 #pragma once
-// ddt::limit_halos — overshoots beside edges removed from a consistent
+// ddt::HaloLimiter — overshoots beside edges removed from a consistent
 // output without losing its consistency.
 //
 // Each footprint (the output pixels whose centres lie in input pixel
@@ -48,7 +48,5 @@ class HaloLimiter {
   InputStatistics statistics_;
   RowBand band_;
 };
-
-long long limit_halos(Image& out, const Image& src);
 
 }  // namespace ddt

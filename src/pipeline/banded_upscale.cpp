@@ -116,14 +116,7 @@ UpscaleStats upscale_banded(const RowSource& source, int out_width, int out_heig
         continue;
       }
       options.output_rows(std::move(out), output_row_of(first, H, out_height));
-      total += static_cast<const StageSeconds&>(part);
-      total.triangles += part.triangles;
-      total.iterations = std::max(total.iterations, part.iterations);
-      total.flips += part.flips;
-      total.tests += part.tests;
-      total.cost_before += part.cost_before;
-      total.cost_after += part.cost_after;
-      total.regions = part.regions;
+      add_band_stats(total, part, i == 0);
       break;
     }
     if (progress) progress->set(end);

@@ -426,14 +426,8 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
                                        " phases: again with " + std::to_string(margin) + " rows");
           continue;
         }
-        local += static_cast<const StageSeconds&>(part);
-        local.triangles += part.triangles;
-        local.iterations = std::max(local.iterations, ls.iterations);
-        local.flips += ls.flips;
-        local.tests += ls.tests;
-        if (i == 0) local.regions = ls.regions;
-        local.cost_before += ls.cost_before;
-        local.cost_after += ls.cost_after;
+        take_optimizer_stats(ls, part);
+        add_band_stats(local, part, i == 0);
         break;
       }
     }
@@ -457,6 +451,17 @@ Mesh2 upscale_mesh(const Image& src, const UpscaleOptions& options, UpscaleStats
   take_optimizer_stats(ls, local);
   if (stats) *stats = local;
   return mesh;
+}
+
+void add_band_stats(UpscaleStats& total, const UpscaleStats& band, bool first_band) {
+  total += static_cast<const StageSeconds&>(band);
+  total.triangles += band.triangles;
+  total.iterations = std::max(total.iterations, band.iterations);
+  total.flips += band.flips;
+  total.tests += band.tests;
+  if (first_band) total.regions = band.regions;
+  total.cost_before += band.cost_before;
+  total.cost_after += band.cost_after;
 }
 
 int output_row_of(int y, int in_height, int out_height) { return first_output_row(y, in_height, out_height); }

@@ -57,6 +57,10 @@ Mesh2 upscale_mesh(const Image& src, const UpscaleOptions& options = {}, Upscale
 Image upscale_rows(const Image& rows, int top, int image_height, int first, int end, int out_width, int out_height,
                    const UpscaleOptions& options = {}, UpscaleStats* stats = nullptr,
                    const InputStatistics* statistics = nullptr, int* margin_needed = nullptr);
+// Adds a band's stage seconds, triangles and optimizer summary to those of
+// the bands before it (phases: the most any band ran; regions: the first
+// band's).
+void add_band_stats(UpscaleStats& total, const UpscaleStats& band, bool first_band);
 // The first output row sampled at or below input row y.
 int output_row_of(int y, int in_height, int out_height);
 // Rows of margin a band needs on a cut side for `phases` phases of the
