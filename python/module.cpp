@@ -240,6 +240,11 @@ py::tuple input_statistics(const py::array& array) {
   return py::make_tuple(s.min, s.max, s.quantum);
 }
 
+py::tuple merge_statistics(const py::object& a, const py::object& b) {
+  const ddt::InputStatistics s = ddt::merge(statistics_from(a), statistics_from(b));
+  return py::make_tuple(s.min, s.max, s.quantum);
+}
+
 int consistency_margin_needed(int triangle_rows, int width, int height, int out_width, int out_height,
                               const py::dict& kwargs) {
   const ImageCall call = image_call(kwargs);
@@ -447,6 +452,7 @@ PYBIND11_MODULE(_ddtscale, m) {
         py::arg("end"), py::arg("out_width"), py::arg("out_height"), py::arg("options"),
         py::arg("statistics") = py::none());
   m.def("input_statistics", &input_statistics, py::arg("array"));
+  m.def("merge_statistics", &merge_statistics, py::arg("a"), py::arg("b"));
   m.def("consistency_margin_needed", &consistency_margin_needed, py::arg("triangle_rows"), py::arg("width"),
         py::arg("height"), py::arg("out_width"), py::arg("out_height"), py::arg("options"));
   m.def("output_row_of", &ddt::output_row_of, py::arg("y"), py::arg("in_height"), py::arg("out_height"));

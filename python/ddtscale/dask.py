@@ -60,13 +60,10 @@ def _block_statistics(block: np.ndarray) -> Tuple[List[float], List[float], floa
 def _statistics(array: "da.Array") -> Tuple[List[float], List[float], float]:
     """The whole array's input_statistics, merged from its blocks."""
     parts = dask.compute(*[dask.delayed(_block_statistics)(block) for block in array.to_delayed().ravel()])
-    low, high, quantum = parts[0]
-    for lo, hi, q in parts[1:]:
-        low = [min(a, b) for a, b in zip(low, lo)]
-        high = [max(a, b) for a, b in zip(high, hi)]
-        # An 8-bit grid lies on the 16-bit one (1/255 = 257/65535).
-        quantum = 0.0 if quantum == 0 or q == 0 else min(quantum, q)
-    return list(low), list(high), float(quantum)
+    merged = parts[0]
+    for part in parts[1:]:
+        merged = _ddtscale.merge_statistics(merged, part)
+    return merged
 
 
 def _regions(width: int, height: int, options: dict) -> int:
