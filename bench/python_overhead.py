@@ -4,7 +4,7 @@
     PYTHONPATH=build/python python3 bench/python_overhead.py [--input IMG] [--scale 4] [--runs 5]
 
 Measures, interleaved, --runs times each (medians):
-  cli            `ddtscale IN OUT --scale S -q`, a child process (wall time, peak memory by wait4)
+  cli            `ddtscale IN OUT --scale S -q`, a child process (wall time, peak memory by GNU time)
   python process `python3 -c "import ddtscale; ddtscale.upscale_file(IN, OUT, S)"`, a child
                  process: the same start, read, work and write, through the module
   python file    ddtscale.upscale_file(IN, OUT, S) in this process (module imported once)
@@ -38,13 +38,15 @@ def read_ppm(path):
 
 
 def run_cli(cli, args):
-    start = time.perf_counter()
-    process = subprocess.Popen([cli] + args)
-    _, status, usage = os.wait4(process.pid, 0)
-    elapsed = time.perf_counter() - start
-    if status != 0:
-        sys.exit(f"python_overhead: {cli} {' '.join(args)} failed")
-    return elapsed, usage.ru_maxrss / 1024
+    # Peak memory by GNU time's wait4 in a small process: a child forked from
+    # this interpreter would inherit its high-water mark (ru_maxrss survives exec).
+    with tempfile.NamedTemporaryFile("r") as report:
+        start = time.perf_counter()
+        status = subprocess.run(["/usr/bin/time", "-f", "%M", "-o", report.name, cli] + args).returncode
+        elapsed = time.perf_counter() - start
+        if status != 0:
+            sys.exit(f"python_overhead: {cli} {' '.join(args)} failed")
+        return elapsed, int(report.read().split()[-1]) / 1024
 
 
 def main():

@@ -10,7 +10,6 @@
 #include "eval/classic_resize.hpp"
 #include "image/mesh_view.hpp"
 #include "io/image_io.hpp"
-#include "pipeline/output_size.hpp"
 #include "util/error.hpp"
 
 #include <CLI/CLI.hpp>
@@ -173,22 +172,11 @@ void validate_arguments(const UpscaleArguments& args) {
     throw ddt::Error("--mesh must name a file other than the output");
 }
 
-void output_size(const UpscaleArguments& args, int in_w, int in_h, int& out_w, int& out_h) {
+ddt::SizeRequest size_request(const UpscaleArguments& args) {
   ddt::SizeRequest request;
   if (args.scale_given) request.scale = args.scale;
   if (args.width_given) request.width = args.width;
   if (args.height_given) request.height = args.height;
   request.max_pixels = args.max_pixels;
-  ddt::output_size(request, in_w, in_h, out_w, out_h);
-}
-
-double image_job_bytes(const UpscaleArguments& args, const ddt::ImageHeader& header, int out_w, int out_h) {
-  const double in_pixels = double(header.width) * header.height;
-  // Streamed under the point model, a few bands of the output are held.
-  const bool bands = !args.writing.no_stream && args.compare.empty() && args.model == "point";
-  const double out_pixels = bands ? std::min(double(out_w) * out_h, 2048.0 * out_w) : double(out_w) * out_h;
-  const double images = 4.0 * header.channels * (in_pixels + out_pixels * (args.compare.empty() ? 1 : 4));
-  const bool tiled = ddt::optimizer_by_name(args.optimizer) == ddt::Optimizer::lawson && args.tile_rows >= 0;
-  const double band = 200.0 * in_pixels;
-  return images + (tiled ? std::min(band, 0.5 * double(ddt::physical_memory())) : band);
+  return request;
 }

@@ -9,14 +9,15 @@
 //   validate_arguments          the checks CLI11 cannot make (NaN
 //                               tolerance, unknown cost, malformed --mesh-roi,
 //                               --mesh naming the output): ddt::Error
-//   output_size, image_job_bytes  the job's size once the input's header
-//                               is known
+//   size_request                --scale / --width / --height / --max-pixels
+//                               as the library's SizeRequest
 // None of them reads or writes a file, prints, or starts a thread.
 
 #include "batch.hpp"
 #include "output_options.hpp"
 
 #include "image/annealing.hpp"
+#include "pipeline/output_size.hpp"
 #include "pipeline/upscale.hpp"
 #include "util/size_limits.hpp"
 
@@ -82,13 +83,5 @@ UpscaleCommandLine parse_upscale_command_line(int argc, const char* const* argv)
 // Throws ddt::Error with the one-line message of the first check that fails.
 void validate_arguments(const UpscaleArguments& args);
 
-// Output size from --scale / --width / --height / --max-pixels for an input
-// of in_w x in_h (>= 1); throws ddt::Error (pipeline/output_size.hpp).
-void output_size(const UpscaleArguments& args, int in_w, int in_h, int& out_w, int& out_h);
-
-// The memory the job holds at least, whatever the tiling, in bytes: the
-// decoded input and the output as floats (a few bands of it when streamed
-// under the point model; with --compare also the classic
-// half and the joined image), and the band being triangulated (about 200
-// bytes an input pixel, bounded by the tiling to half the physical memory).
-double image_job_bytes(const UpscaleArguments& args, const ddt::ImageHeader& header, int out_w, int out_h);
+// --scale / --width / --height / --max-pixels as given (pipeline/output_size.hpp).
+ddt::SizeRequest size_request(const UpscaleArguments& args);

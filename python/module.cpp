@@ -12,11 +12,13 @@
 #include "consistency/input_statistics.hpp"
 #include "eval/classic_resize.hpp"
 #include "eval/comparison.hpp"
+#include "util/allocator_tuning.hpp"
 #include "util/error.hpp"
 #include "util/thread_limit.hpp"
 #include "io/image_io.hpp"
 #include "image/image_mesh.hpp"
 #include "image/mesh_view.hpp"
+#include "pipeline/file_upscale.hpp"
 #include "pipeline/output_size.hpp"
 #include "scattered/point_table.hpp"
 
@@ -191,40 +193,25 @@ py::tuple output_size(int in_width, int in_height, const py::object& scale, cons
   return py::make_tuple(out_h, out_w);
 }
 
-// The command line's single-file run without its extras (--compare, --mesh,
-// progress): read, enlarge, write atomically, keeping the bit depth and alpha.
-// A file that cannot be read or written raises OSError.
+// The command line's job for one file (pipeline/file_upscale.hpp) without its
+// extras (--compare, --mesh, the bar): the same bits, streamed or by bands;
+// a file that cannot be read or written raises OSError.
 py::tuple upscale_file(const std::string& input, const std::string& output, const py::object& scale,
                        const py::object& size, const py::dict& kwargs) {
   ImageCall call = image_call(kwargs);
   if (call.compare || call.mesh) throw ddt::Error("compare and mesh are not options of upscale_file");
   const ddt::SizeRequest request = size_request(scale, size, kwargs, call.max_pixels);
   call.options.log = stderr_log(call.verbose);
-  int out_w = 0, out_h = 0;
-  ddt::UpscaleStats stats;
   ddt::Progress progress;
   call.options.progress = &progress;
+  ddt::FileUpscaleJob job{input, output, request, call.options, {}, true, 0, {}};
+  if (!call.quiet) job.warn = [](const std::string& line) { std::cerr << "ddtscale: warning: " << line << "\n"; };
+  ddt::FileUpscaleResult result;
   run_interruptibly(progress, [&] {
     const auto limit = ddt::limit_threads(call.threads);
-    ddt::ImageFile file;
-    try {
-      ddt::check_output_path(output, input);
-      file = ddt::read_image(input);
-    } catch (const ddt::Error& e) {
-      throw std::system_error(std::make_error_code(std::errc::io_error), e.what());
-    }
-    ddt::output_size(request, file.image.width, file.image.height, out_w, out_h);
-    ddt::check_image_writable(output, out_w, out_h, file.image.channels, file.format, file.alpha_channel);
-    call.options.alpha_channel = file.alpha_channel;
-    const ddt::Image out = ddt::upscale(file.image, out_w, out_h, call.options, &stats);
-    progress.begin("write");  // a Ctrl-C during the enlargement writes nothing
-    try {
-      ddt::write_image(output, out, file.format, file.alpha_channel);
-    } catch (const ddt::Error& e) {
-      throw std::system_error(std::make_error_code(std::errc::io_error), e.what());
-    }
+    result = ddt::upscale_file(std::move(job));
   });
-  return py::make_tuple(out_h, out_w);
+  return py::make_tuple(result.height, result.width);
 }
 
 ddt::InputStatistics statistics_from(const py::object& value) {
@@ -431,9 +418,12 @@ py::array grid(const py::array& points, const py::array& values, const py::objec
 
 PYBIND11_MODULE(_ddtscale, m) {
   m.doc() = "The compiled half of ddtscale; use the functions of the ddtscale package.";
+  ddt::tune_allocator();  // as the command line does: a script of files runs as fast as the command
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
+    } catch (const ddt::FileError& e) {
+      PyErr_SetString(PyExc_OSError, e.what());
     } catch (const ddt::Error& e) {
       PyErr_SetString(PyExc_ValueError, e.what());
     } catch (const std::system_error& e) {

@@ -11,4 +11,10 @@ struct Error : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// An input that cannot be read or an output that cannot be written (the
+// Python module raises it as OSError, the other errors as ValueError).
+struct FileError : Error {
+  using Error::Error;
+};
+
 }  // namespace ddt

@@ -21,11 +21,17 @@ on all cores unless threads= says otherwise.
 
 from __future__ import annotations
 
-from typing import Any, Optional, Sequence, Tuple, Union
-
-import numpy as np
-
 from . import _ddtscale
+
+# The annotations are never evaluated (see the import from __future__): numpy
+# and typing are left to the type checkers, and numpy is imported where an
+# array is made, so that a script that enlarges files starts as fast as the
+# command line.
+TYPE_CHECKING = False
+if TYPE_CHECKING:
+    from typing import Any, Optional, Sequence, Tuple, Union
+
+    import numpy as np
 
 __all__ = ["upscale", "upscale_volume", "upscale_sequence", "grid", "UPSCALE_OPTIONS", "VOLUME_OPTIONS",
            "SEQUENCE_OPTIONS", "GRID_OPTIONS"]
@@ -57,7 +63,9 @@ def upscale_volume(array: np.ndarray, scale: Optional[float] = None,
 
 def upscale_sequence(frames: np.ndarray, time_scale: float = 1, scale: Optional[float] = None,
                      size: Union[int, Tuple[int, int], None] = None, **options: Any) -> np.ndarray:
-    return np.stack(_ddtscale.upscale_sequence(frames, time_scale, scale, size, options))
+    import numpy
+
+    return numpy.stack(_ddtscale.upscale_sequence(frames, time_scale, scale, size, options))
 
 
 def grid(points: np.ndarray, values: np.ndarray, size: Union[int, Tuple[int, int]],
@@ -166,7 +174,10 @@ def upscale_file(input: str, output: str, scale: Optional[float] = None,
 
     The output's format follows its extension; integer formats keep the
     input's bit depth, alpha stays alpha. The file is written atomically
-    (never a truncated or clobbered file on failure). Options are those of
+    (never a truncated or clobbered file on failure). This is the command
+    line's job: the output is encoded by bands while the work goes on, and
+    an image whose job does not fit in memory (or tile_rows=N) is read,
+    enlarged and written by bands, to the same bits. Options are those of
     upscale() but compare and mesh. Returns the output's (height, width).
     Raises OSError when a file cannot be read or written, ValueError on a
     bad option.

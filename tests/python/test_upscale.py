@@ -3,6 +3,7 @@
 import os
 import re
 import subprocess
+import sys
 import threading
 import time
 import warnings
@@ -221,9 +222,9 @@ def _write_ppm(path, image):
 
 def _read_ppm(path):
     data = open(path, "rb").read()
-    fields = data.split(maxsplit=4)
+    fields = data.split(maxsplit=3)  # P6, width, height; then the maximum and one whitespace byte
     w, h = int(fields[1]), int(fields[2])
-    return np.frombuffer(fields[4], np.uint8)[: w * h * 3].reshape(h, w, 3)
+    return np.frombuffer(data[len(data) - w * h * 3:], np.uint8).reshape(h, w, 3)
 
 
 def test_equals_the_command_line_bit_for_bit(textured, cli, tmp_path):
@@ -246,3 +247,30 @@ def test_upscale_file_keeps_depth_and_refuses_bad_files(textured, tmp_path):
         ddtscale.upscale_file(tmp_path / "missing.ppm", tmp_path / "x.ppm", 2)
     with pytest.raises(OSError):
         ddtscale.upscale_file(tmp_path / "in.ppm", tmp_path / "in.ppm", 2)
+
+
+def test_a_script_of_files_does_not_start_numpy(textured, tmp_path):
+    # A cold process that only enlarges files pays the library's start, not numpy's (issue 19's overhead).
+    image = (textured * 255).round().astype(np.uint8)
+    _write_ppm(tmp_path / "in.ppm", image)
+    script = ("import sys, ddtscale; ddtscale.upscale_file(sys.argv[1], sys.argv[2], 2, quiet=True); "
+              "print('numpy' in sys.modules)")
+    done = subprocess.run([sys.executable, "-c", script, str(tmp_path / "in.ppm"), str(tmp_path / "out.ppm")],
+                          capture_output=True, text=True, env=dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path)))
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "False"
+    np.testing.assert_array_equal(_read_ppm(tmp_path / "out.ppm"), ddtscale.upscale(image, 2))
+
+
+@pytest.mark.parametrize("model", ["box", "point"])
+def test_upscale_file_reads_by_bands_to_the_same_bits(tmp_path, capfd, model):
+    # The command line's job (pipeline/file_upscale.hpp): tile_rows reads, enlarges and writes by bands.
+    rng = np.random.default_rng(7)
+    ramp = np.linspace(0, 1, 512)[:, None, None] * np.array([0.8, 0.3, 0.5])
+    image = (np.clip(ramp + rng.uniform(0, 0.2, (512, 192, 3)), 0, 1) * 255).round().astype(np.uint8)
+    _write_ppm(tmp_path / "in.ppm", image)
+    options = dict(model=model, region_rows=32)
+    assert ddtscale.upscale_file(tmp_path / "in.ppm", tmp_path / "b.ppm", 2, tile_rows=128, verbose=True,
+                                 **options) == (1024, 384)
+    assert "read by bands of 128 rows" in capfd.readouterr().err
+    np.testing.assert_array_equal(_read_ppm(tmp_path / "b.ppm"), ddtscale.upscale(image, 2, tile_rows=-1, **options))

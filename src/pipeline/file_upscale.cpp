@@ -1,0 +1,164 @@
+#include "pipeline/file_upscale.hpp"
+
+#include "image/image_mesh.hpp"
+#include "io/band_writer.hpp"
+#include "io/image_io.hpp"
+#include "pipeline/banded_upscale.hpp"
+#include "pipeline/upscale.hpp"
+#include "util/size_limits.hpp"
+#include "util/timing.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <memory>
+#include <optional>
+
+namespace ddt {
+
+namespace {
+
+// Runs `io`, an I/O step, turning its errors into FileError.
+template <class Step>
+auto file_step(Step&& io) {
+  try {
+    return io();
+  } catch (const FileError&) {
+    throw;
+  } catch (const Error& e) {
+    throw FileError(e.what());
+  }
+}
+
+void log_line(const UpscaleOptions& options, const std::string& line) {
+  if (options.log) options.log(line);
+}
+
+void warn_of_pages(const FileUpscaleJob& job, int pages) {
+  if (pages > 1 && job.warn)
+    job.warn("'" + job.input + "' holds " + (pages > 2 ? std::to_string(pages) : "2 or more") +
+             " pages or parts; only the first is enlarged");
+}
+
+}  // namespace
+
+double upscale_job_bytes(int width, int height, int channels, int out_width, int out_height,
+                         const UpscaleOptions& options, bool streamed, int output_images) {
+  const double in_pixels = double(width) * height;
+  // Streamed under the point model, a few bands of the output are held.
+  const bool bands = streamed && options.model.kind == AcquisitionModel::Kind::point;
+  const double out_pixels = bands ? std::min(double(out_width) * out_height, 2048.0 * out_width)
+                                  : double(out_width) * out_height;
+  const double images = 4.0 * channels * (in_pixels + out_pixels * output_images);
+  const bool tiled = options.optimizer == Optimizer::lawson && options.tile_rows >= 0;
+  const double mesh = 200.0 * in_pixels;
+  return images + (tiled ? std::min(mesh, 0.5 * double(physical_memory())) : mesh);
+}
+
+bool can_upscale_by_bands(int width, int height, const UpscaleOptions& options) {
+  return options.optimizer == Optimizer::lawson && options.tile_rows >= 0 &&
+         optimizer_region_rows(width, height, options) > 0;
+}
+
+FileUpscaleResult upscale_file(FileUpscaleJob job) {
+  file_step([&] { check_output_path(job.output, job.input); });
+  const auto t0 = std::chrono::steady_clock::now();
+  UpscaleOptions& options = job.options;
+  if (options.progress) options.progress->begin("read");
+  FileUpscaleResult result;
+  bool banded = false;
+  std::optional<Error> job_error;  // the header's refusals stay ddt::Error, not FileError
+  ImageReadLimits limits;
+  if (job.max_input_pixels > 0) limits.max_pixels = job.max_input_pixels;
+  limits.check = [&](const ImageHeader& header) {
+    try {
+      output_size(job.size, header.width, header.height, result.width, result.height);
+      check_image_writable(job.output, result.width, result.height, header.channels, header.format,
+                           header.alpha_channel, job.encode);
+      const double whole = upscale_job_bytes(header.width, header.height, header.channels, result.width,
+                                             result.height, options, job.stream);
+      banded = job.stream && can_upscale_by_bands(header.width, header.height, options) &&
+               (options.tile_rows > 0 || whole > 0.9 * double(available_memory()));
+      if (!banded) check_memory_fits("this job", whole);
+    } catch (const Error& e) {
+      job_error = e;
+      throw;
+    }
+  };
+  auto read_step = [&](auto&& read) {
+    try {
+      return file_step(read);
+    } catch (const Error&) {
+      if (job_error) throw Error(job_error->what());
+      throw;
+    }
+  };
+  auto reader = read_step([&] { return std::make_unique<ImageRowReader>(job.input, limits); });
+  ImageFile file;
+  std::unique_ptr<ImageBandWriter> writer;
+  if (banded) {
+    const ImageHeader header = reader->header();
+    warn_of_pages(job, reader->file().pages);
+    options.alpha_channel = header.alpha_channel;
+    const OIIO::ParamValueList metadata = scaled_metadata(reader->file().metadata, double(result.width) / header.width,
+                                                          double(result.height) / header.height);
+    writer = file_step([&] {
+      return std::make_unique<ImageBandWriter>(job.output, result.width, result.height, header.channels, header.format,
+                                               header.alpha_channel, &metadata, job.encode);
+    });
+    options.output_rows = [&writer](Image rows, int first_row) {
+      file_step([&] { writer->write(std::move(rows), first_row); });
+    };
+    result.bands = options.tile_rows > 0 ? options.tile_rows
+                                         : banded_rows(header.width, header.height, header.channels, result.width,
+                                                       result.height, 0.5 * double(available_memory()));
+    log_line(options, "read by bands of " + std::to_string(result.bands) + " rows: " + job.input + ", " +
+                          std::to_string(header.width) + "x" + std::to_string(header.height) + "x" +
+                          std::to_string(header.channels));
+    ImageRowReader& rows = *reader;
+    const RowSource source{header.width, header.height, header.channels,
+                           [&rows](int first, int end, float* p) { file_step([&] { rows.read(first, end, p); }); }};
+    result.stats = upscale_banded(source, result.width, result.height, options, result.bands);
+    result.bands = result.stats.tiles;
+    log_line(options, "bands: " + std::to_string(result.stats.tiles) + ", margin " +
+                          std::to_string(result.stats.tile_margin) + " rows, " + std::to_string(seconds_since(t0)) +
+                          " s");
+  } else {
+    reader.reset();
+    limits.check = [&](const ImageHeader& header) {
+      check_memory_fits("this job", upscale_job_bytes(header.width, header.height, header.channels, result.width,
+                                                      result.height, options, job.stream));
+    };
+    file = read_step([&] { return read_image(job.input, limits); });
+    log_line(options, "read: " + job.input + ", " + std::to_string(file.image.width) + "x" +
+                          std::to_string(file.image.height) + "x" + std::to_string(file.image.channels) + ", " +
+                          std::to_string(seconds_since(t0)) + " s");
+    warn_of_pages(job, file.pages);
+    options.alpha_channel = file.alpha_channel;
+    const OIIO::ParamValueList metadata = scaled_metadata(file.metadata, double(result.width) / file.image.width,
+                                                          double(result.height) / file.image.height);
+    if (job.stream) {
+      writer = file_step([&] {
+        return std::make_unique<ImageBandWriter>(job.output, result.width, result.height, file.image.channels,
+                                                 file.format, file.alpha_channel, &metadata, job.encode);
+      });
+      options.output_rows = [&writer](Image rows, int first_row) {
+      file_step([&] { writer->write(std::move(rows), first_row); });
+    };
+    }
+    const Image out = upscale(file.image, result.width, result.height, options, &result.stats);
+    if (!writer) {
+      if (options.progress) options.progress->begin("write");
+      const auto t1 = std::chrono::steady_clock::now();
+      file_step([&] { write_image(job.output, out, file.format, file.alpha_channel, &metadata, job.encode); });
+      log_line(options, "write: " + job.output + ", " + std::to_string(seconds_since(t1)) + " s");
+      return result;
+    }
+  }
+  if (options.progress) options.progress->begin("write");
+  const auto t1 = std::chrono::steady_clock::now();
+  file_step([&] { writer->finish(); });
+  log_line(options, "write: " + job.output + ", " + std::to_string(seconds_since(t1)) + " s");
+  return result;
+}
+
+}  // namespace ddt
