@@ -67,10 +67,7 @@ UpscaleStats upscale_banded(const RowSource& source, int out_width, int out_heig
   band_options.output_rows = nullptr;  // each band's rows come back whole, and are handed out here
   band_options.tile_rows = -1;
   band_rows = std::clamp(band_rows, 1, H);
-  int margin = 2 * region_rows + 8 +
-               (consistent ? consistency_margin_needed(planned_triangle_rows, options.model, W, H, out_width,
-                                                       out_height)
-                           : 0);
+  int margin = planned_band_margin(region_rows, consistent, options.model, W, H, out_width, out_height);
   check_memory_fits("a band of " + std::to_string(band_rows) + " rows with " + std::to_string(margin) +
                         " rows of margin each side",
                     band_row_bytes(W, H, C, out_width, out_height) * std::min<double>(H, band_rows + 2.0 * margin));
@@ -110,7 +107,7 @@ UpscaleStats upscale_banded(const RowSource& source, int out_width, int out_heig
       Image out = upscale_rows(held, top, H, first, end, out_width, out_height, band_options, &part,
                                consistent ? &statistics : nullptr, &needed);
       if (out.empty()) {  // too narrow a margin for this band's mesh
-        margin = std::max(margin + region_rows, needed + region_rows);
+        margin = widened_band_margin(margin, needed, region_rows);
         if (options.log) options.log("band " + std::to_string(i + 1) + ": margin too narrow, again with " +
                                      std::to_string(margin) + " rows");
         continue;

@@ -402,10 +402,7 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
     const int tiles = (H + tile_rows - 1) / tile_rows;
     // The consistent reconstruction's reach, planned (it is checked on each
     // tile's own mesh).
-    int margin = 2 * region_rows + 8 +
-                 (consistent ? consistency_margin_needed(planned_triangle_rows, options.model, W, H, out_width,
-                                                         out_height)
-                             : 0);
+    int margin = planned_band_margin(region_rows, consistent, options.model, W, H, out_width, out_height);
     local.tiles = tiles;
     for (int i = 0; i < tiles; ++i) {
       const int y0 = i * tile_rows, y1 = std::min(H, y0 + tile_rows);
@@ -421,7 +418,7 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
         const LawsonStats ls = run_band(src, 0, H, band, out_width, out_height, band_options, cost, drive, region_triangles,
                                         region_rows, label, output, part, cut_margin, &statistics, &needed);
         if (needed > cut_margin) {
-          margin = std::max(margin, needed + region_rows);
+          margin = widened_band_margin(margin, needed, region_rows);
           if (options.log) options.log(label + "margin too narrow for " + std::to_string(ls.iterations) +
                                        " phases: again with " + std::to_string(margin) + " rows");
           continue;
@@ -467,6 +464,17 @@ void add_band_stats(UpscaleStats& total, const UpscaleStats& band, bool first_ba
 int output_row_of(int y, int in_height, int out_height) { return first_output_row(y, in_height, out_height); }
 
 int band_margin_needed(int phases, int region_rows) { return (phases + 1) * ((region_rows + 1) / 2) + 8; }
+
+int planned_band_margin(int region_rows, bool consistent, const AcquisitionModel& model, int width, int height,
+                        int out_width, int out_height) {
+  return 2 * region_rows + 8 +
+         (consistent ? consistency_margin_needed(planned_triangle_rows, model, width, height, out_width, out_height)
+                     : 0);
+}
+
+int widened_band_margin(int margin, int needed, int region_rows) {
+  return std::max(margin + region_rows, needed + region_rows);
+}
 
 Image upscale_rows(const Image& rows, int top, int image_height, int first, int end, int out_width, int out_height,
                    const UpscaleOptions& options, UpscaleStats* stats, const InputStatistics* statistics,

@@ -66,5 +66,12 @@ int output_row_of(int y, int in_height, int out_height);
 // Rows of margin a band needs on a cut side for `phases` phases of the
 // region schedule (docs/performance.md).
 int band_margin_needed(int phases, int region_rows);
+// The margin both tilers (upscale()'s tiles, upscale_banded) start with: two
+// regions and the consistent reconstruction's planned reach (when
+// `consistent`); and the wider one a band is redone with when its mesh
+// needed `needed` rows.
+int planned_band_margin(int region_rows, bool consistent, const AcquisitionModel& model, int width, int height,
+                        int out_width, int out_height);
+int widened_band_margin(int margin, int needed, int region_rows);
 
 }  // namespace ddt
