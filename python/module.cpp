@@ -198,13 +198,14 @@ py::tuple output_size(int in_width, int in_height, const py::object& scale, cons
 // a file that cannot be read or written raises OSError.
 py::tuple upscale_file(const std::string& input, const std::string& output, const py::object& scale,
                        const py::object& size, const py::dict& kwargs) {
-  ImageCall call = image_call(kwargs);
-  if (call.compare || call.mesh) throw ddt::Error("compare and mesh are not options of upscale_file");
+  FileCall file = file_call(kwargs);
+  ImageCall& call = file.image;
   const ddt::SizeRequest request = size_request(scale, size, kwargs, call.max_pixels);
   call.options.log = stderr_log(call.verbose);
   ddt::Progress progress;
   call.options.progress = &progress;
-  ddt::FileUpscaleJob job{input, output, request, call.options, {}, true, 0, {}};
+  ddt::FileUpscaleJob job{input,        output,         request, call.options, file.encode, !file.no_stream,
+                          file.max_input_pixels, {}};
   if (!call.quiet) job.warn = [](const std::string& line) { std::cerr << "ddtscale: warning: " << line << "\n"; };
   ddt::FileUpscaleResult result;
   run_interruptibly(progress, [&] {
@@ -431,6 +432,7 @@ PYBIND11_MODULE(_ddtscale, m) {
     }
   });
   m.def("upscale_defaults", &image_defaults);
+  m.def("upscale_file_defaults", &file_defaults);
   m.def("volume_defaults", &volume_defaults);
   m.def("grid_defaults", &grid_defaults);
   m.def("upscale", &upscale, py::arg("array"), py::arg("scale"), py::arg("size"), py::arg("options"));

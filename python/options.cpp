@@ -183,6 +183,42 @@ py::dict volume_defaults() {
   return d;
 }
 
+py::dict file_defaults() {
+  py::dict d = image_defaults();
+  for (const char* name : {"compare", "mesh", "mesh_roi"}) d.attr("pop")(name);
+  const FileCall c;
+  d["compression"] = py::none();  // the format's default (--help)
+  d["quality"] = py::none();
+  d["half"] = c.encode.half;
+  d["float"] = c.encode.full_float;
+  d["tile_size"] = py::none();
+  d["no_stream"] = c.no_stream;
+  d["max_input_pixels"] = c.max_input_pixels;
+  return d;
+}
+
+FileCall file_call(const py::dict& kwargs) {
+  const Keywords k(kwargs, file_defaults());  // names checked against all of upscale_file's
+  py::dict image;
+  const py::dict image_names = image_defaults();
+  for (const auto& item : kwargs)
+    if (image_names.contains(item.first)) image[item.first] = item.second;
+  FileCall c;
+  c.image = image_call(image);
+  k.get("compression", c.encode.compression);
+  // 0 means the format's default in EncodeOptions; given, it is a bad value (the rest is checked by the library).
+  if (k.get("quality", c.encode.quality) && c.encode.quality < 1)
+    throw ddt::Error("--quality must be a whole number from 1 to 100");
+  k.get("half", c.encode.half);
+  k.get("float", c.encode.full_float);
+  if (k.get("tile_size", c.encode.tile) && c.encode.tile < 16)
+    throw ddt::Error("--tile-size must be a multiple of 16 from 16 to 65536");
+  k.get("no_stream", c.no_stream);
+  k.get("max_input_pixels", c.max_input_pixels);
+  if (c.max_input_pixels <= 0) throw ddt::Error("--max-input-pixels must be positive");
+  return c;
+}
+
 VolumeCall volume_call(const py::dict& kwargs) {
   const Keywords k(kwargs, volume_defaults());
   VolumeCall c;

@@ -9,9 +9,11 @@
 // the accepted ones; a value of the wrong Python type throws
 // pybind11::type_error (TypeError).
 
+#include "io/encode_options.hpp"
 #include "scattered/gridding.hpp"
 #include "pipeline/upscale.hpp"
 #include "volume/sequence_upscale.hpp"
+#include "util/size_limits.hpp"
 #include "volume/volume_upscale.hpp"
 
 #include <pybind11/pybind11.h>
@@ -32,6 +34,16 @@ struct ImageCall {
   std::string cost_channel = "sum";
   std::string model = "box";
   std::optional<std::string> compare, mesh, mesh_roi;
+};
+
+// upscale_file's: the image options but compare and mesh, and the output
+// file's (--compression, --quality, --half, --float, --tile-size,
+// --no-stream, --max-input-pixels).
+struct FileCall {
+  ImageCall image;
+  ddt::EncodeOptions encode;
+  bool no_stream = false;
+  long long max_input_pixels = ddt::default_max_input_pixels();
 };
 
 struct VolumeCall {
@@ -64,6 +76,8 @@ py::dict grid_defaults();
 py::dict sequence_defaults();
 
 ImageCall image_call(const py::dict& kwargs);
+py::dict file_defaults();
+FileCall file_call(const py::dict& kwargs);
 VolumeCall volume_call(const py::dict& kwargs);
 GridCall grid_call(const py::dict& kwargs, int channels);
 SequenceCall sequence_call(const py::dict& kwargs);

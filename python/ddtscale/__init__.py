@@ -33,11 +33,14 @@ if TYPE_CHECKING:
 
     import numpy as np
 
-__all__ = ["upscale", "upscale_volume", "upscale_sequence", "grid", "UPSCALE_OPTIONS", "VOLUME_OPTIONS",
+__all__ = ["upscale", "upscale_volume", "upscale_sequence", "grid", "UPSCALE_OPTIONS", "UPSCALE_FILE_OPTIONS", "VOLUME_OPTIONS",
            "SEQUENCE_OPTIONS", "GRID_OPTIONS"]
 
 #: The keyword options of upscale() and their defaults (the library's).
 UPSCALE_OPTIONS: dict = dict(_ddtscale.upscale_defaults())
+#: The keyword options of upscale_file() and their defaults: upscale()'s but
+#: compare and mesh, and how the output file is written.
+UPSCALE_FILE_OPTIONS: dict = dict(_ddtscale.upscale_file_defaults())
 #: The keyword options of upscale_volume() and their defaults.
 VOLUME_OPTIONS: dict = dict(_ddtscale.volume_defaults())
 #: The keyword options of upscale_sequence() and their defaults.
@@ -178,7 +181,11 @@ def upscale_file(input: str, output: str, scale: Optional[float] = None,
     line's job: the output is encoded by bands while the work goes on, and
     an image whose job does not fit in memory (or tile_rows=N) is read,
     enlarged and written by bands, to the same bits. Options are those of
-    upscale() but compare and mesh. Returns the output's (height, width).
+    upscale() but compare and mesh, and the command line's for the file
+    (UPSCALE_FILE_OPTIONS): compression ("1:up", "9:adaptive" for PNG;
+    "piz", "zip", "dwaa:45" for EXR; "lzw", "jpeg:90" for TIFF), quality
+    (JPEG, 1 to 100), half and float (EXR samples), tile_size (TIFF and EXR
+    tiles), no_stream, max_input_pixels. Returns the output's (height, width).
     Raises OSError when a file cannot be read or written, ValueError on a
     bad option.
     """

@@ -7,6 +7,7 @@ from typing import Any, Literal, Optional, Sequence, Tuple, Union
 import numpy as np
 
 UPSCALE_OPTIONS: dict[str, Any]
+UPSCALE_FILE_OPTIONS: dict[str, Any]
 VOLUME_OPTIONS: dict[str, Any]
 SEQUENCE_OPTIONS: dict[str, Any]
 GRID_OPTIONS: dict[str, Any]

@@ -127,10 +127,12 @@ def test_options_match_the_command_line(cli):
         assert "--" + name.replace("_", "-") in out, name
     # ... and every option of the command line is a keyword (but those about files and the command itself).
     flags = set(re.findall(r"^\s+(?:-\w,)?--([a-z][a-z0-9-]*)", out, re.MULTILINE))
-    # scale: positional; max-input-pixels: a limit on decoding files, arrays come decoded
-    not_keywords = {"help", "list-costs", "outdir", "suffix", "format", "overwrite", "jobs", "scale", "max-input-pixels"}
-    # how the output file is encoded and written (upscale_file writes with the defaults)
-    not_keywords |= {"compression", "quality", "half", "float", "tile-size", "no-stream"}
+    # scale: positional; the files' options are upscale_file's (below)
+    not_keywords = {"help", "list-costs", "outdir", "suffix", "format", "overwrite", "jobs", "scale"}
+    file_flags = {"compression", "quality", "half", "float", "tile-size", "no-stream", "max-input-pixels"}
+    not_keywords |= file_flags
+    assert file_flags <= {k.replace("_", "-") for k in ddtscale.UPSCALE_FILE_OPTIONS}
+    assert set(ddtscale.UPSCALE_OPTIONS) - {"compare", "mesh", "mesh_roi"} <= set(ddtscale.UPSCALE_FILE_OPTIONS)
     assert flags - not_keywords <= {k.replace("_", "-") for k in ddtscale.UPSCALE_OPTIONS}, \
         flags - not_keywords - {k.replace("_", "-") for k in ddtscale.UPSCALE_OPTIONS}
     assert "scale" in flags and "tile-rows" in flags
@@ -274,3 +276,23 @@ def test_upscale_file_reads_by_bands_to_the_same_bits(tmp_path, capfd, model):
                                  **options) == (1024, 384)
     assert "read by bands of 128 rows" in capfd.readouterr().err
     np.testing.assert_array_equal(_read_ppm(tmp_path / "b.ppm"), ddtscale.upscale(image, 2, tile_rows=-1, **options))
+
+
+def test_upscale_file_takes_the_command_lines_file_options(textured, tmp_path):
+    image = (textured * 255).round().astype(np.uint8)
+    _write_ppm(tmp_path / "in.ppm", image)
+    small, fast = tmp_path / "small.tif", tmp_path / "fast.tif"
+    ddtscale.upscale_file(tmp_path / "in.ppm", small, 2, compression="zip:9", quiet=True)
+    ddtscale.upscale_file(tmp_path / "in.ppm", fast, 2, compression="none", no_stream=True, quiet=True)
+    assert os.path.getsize(small) < os.path.getsize(fast)
+    half, full = tmp_path / "half.exr", tmp_path / "full.exr"
+    ddtscale.upscale_file(tmp_path / "in.ppm", half, 2, half=True, quiet=True)
+    ddtscale.upscale_file(tmp_path / "in.ppm", full, 2, float=True, quiet=True)
+    assert os.path.getsize(half) < os.path.getsize(full)
+    for options, message in [(dict(quality=0), "--quality"), (dict(compression="zip"), "--compression"),
+                             (dict(half=True, float=True), "--half"), (dict(tile_size=8), "--tile-size"),
+                             (dict(compare="bicubic"), "unknown option 'compare'"),
+                             (dict(max_input_pixels=100), "--max-input-pixels")]:
+        with pytest.raises((ValueError, OSError), match=message):
+            ddtscale.upscale_file(tmp_path / "in.ppm", tmp_path / "bad.png", 2, **options)
+        assert not (tmp_path / "bad.png").exists()
