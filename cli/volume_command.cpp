@@ -118,8 +118,9 @@ int run_volume_upscale(int argc, char** argv) {
                  "magnification, any real > 0 (e.g. 4 or 2.5), the same on every axis (a series' time too, "
                  "unless --time-scale)");
   app.add_option("--time-scale", time_scale,
-                 "series: magnification of the time axis, any real > 0: n steps become (n - 1) * T + 1 (the steps "
-                 "are instants, every input step kept); alone, space keeps its size");
+                 "series: magnification of the time axis, any real > 0: n steps become floor((n - 1) * T) + 1, "
+                 "output step g at the instant g / T (the steps are instants: at a whole T every input step is "
+                 "kept); alone, space keeps its size");
   app.add_option("--size", size_spec,
                  "output size instead of --scale: N (a cube), XxYxZ voxels, or XxYxZxT for a series (with XxYxZ "
                  "a series keeps its steps unless --time-scale)");
@@ -260,7 +261,7 @@ int run_volume_upscale(int argc, char** argv) {
                          "' is a 3D volume");
       const double space = scale != 0 ? scale : 1.0, time = time_given ? time_scale : space;
       for (int a = 0; a < 4; ++a) {
-        const double n = a < 3 ? std::round(in[a] * space) : std::round((in[3] - 1) * time) + 1;
+        const double n = a < 3 ? std::round(in[a] * space) : ddt::tiled_output_slices(in[3], time, true);
         if (n > 65536) throw ddt::Error("--scale gives an output larger than --max-voxels");
         out[a] = static_cast<int>(std::max(1.0, n));
       }
@@ -305,10 +306,6 @@ int run_volume_upscale(int argc, char** argv) {
         ddt::encoding_name(file.encoding) + ", " + std::to_string(seconds_since(t0)) + " s");
 
     const bool series = src.nt > 1;
-    // A time axis whose header says its steps are cells: n steps become n * T.
-    if (series && !file.node_centred[3] && size_given[3] == 0)
-      out[3] = static_cast<int>(std::max(1.0, std::round(src.nt * (time_given ? time_scale
-                                                                                    : scale != 0 ? scale : 1.0))));
     if (!series && (volume_method == ddt::VolumeMethod::quadrilinear ||
                     volume_method == ddt::VolumeMethod::tricubic_linear))
       throw ddt::Error("--method " + method + " is for volume series (4 axes); '" + input + "' is a 3D volume");
@@ -330,6 +327,12 @@ int run_volume_upscale(int argc, char** argv) {
     options.node_centred = file.node_centred;
     options.presmooth = ddt::presmooth_in_space(series, presmooth);
     if (verbose) options.log = log;
+    // The time axis counted and sampled as image sequences are (a fractional
+    // --time-scale samples the instants g / T); a header that says its steps
+    // are cells: n steps become n * T.
+    if (series && size_given[3] == 0)
+      out[3] = ddt::scale_time_axis(src.nt, time_given ? time_scale : scale != 0 ? scale : 1.0, options);
+    tiling.axis_scale = options.last_axis.scale;
     ddt::Volume result;
     if (tiling.tile_slices > 0) {
       // Tiles along the last axis: the output is held whole (the NRRD is

@@ -282,8 +282,9 @@ py::array upscale_volume(const py::array& array, const py::object& scale, const 
   const double time = call.time_scale ? *call.time_scale : space;
   const int in_size[4] = {v.nx, v.ny, v.nz, v.nt};
   for (int a = 0; a < 4; ++a) {
-    const double n = static_cast<double>(ddt::enlarged_size(in_size[a], a < 3 ? space : time,
-                                                            call.options.node_centred[a]));
+    // Time as image sequences count and sample it (a fractional time_scale: the instants g / T).
+    const double n = a < 3 ? ddt::enlarged_size(in_size[a], space, call.options.node_centred[a])
+                           : ddt::scale_time_axis(in_size[a], time, call.options);
     if (n > 65536) throw ddt::Error("--scale gives an output larger than --max-voxels");
     out[a] = static_cast<int>(n);
   }

@@ -79,7 +79,8 @@ const NrrdKernel* teem_kernel(const std::string& name) {
 
 // One channel, up to four axes, a kernel and a centring per axis.
 Volume teem_resample_axes(const Volume& src, const std::array<int, 4>& size,
-                          const std::array<const NrrdKernel*, 4>& kernels, const std::array<bool, 4>& node_centred) {
+                          const std::array<const NrrdKernel*, 4>& kernels, const std::array<bool, 4>& node_centred,
+                          const AxisWindow& window = {}) {
   if (src.empty() || src.channels != 1) throw Error("resample: the volume is empty or has several channels");
   for (int n : size)
     if (n < 1) throw Error("resample: the output size must be at least 1 on every axis");
@@ -103,9 +104,20 @@ Volume teem_resample_axes(const Volume& src, const std::array<int, 4>& size,
     nin->axis[a].center = node_centred[a] && in[a] > 1 && size[a] > 1 ? nrrdCenterNode : nrrdCenterCell;
   failed = failed || nrrdResampleNrrdSet(rsmc, nin) || nrrdResampleBoundarySet(rsmc, nrrdBoundaryBleed) ||
            nrrdResampleTypeOutSet(rsmc, nrrdTypeFloat) || nrrdResampleRenormalizeSet(rsmc, AIR_TRUE);
-  for (unsigned a = 0; a < axes && !failed; ++a)
-    failed = nrrdResampleKernelSet(rsmc, a, kernels[a], parm) ||
-             nrrdResampleSamplesSet(rsmc, a, std::size_t(size[a])) || nrrdResampleRangeFullSet(rsmc, a);
+  for (unsigned a = 0; a < axes && !failed; ++a) {
+    failed = nrrdResampleKernelSet(rsmc, a, kernels[a], parm) || nrrdResampleSamplesSet(rsmc, a, std::size_t(size[a]));
+    if (failed) break;
+    if (window.scale > 0 && int(a) == window.axis) {
+      // The range is in the input's index space: where the first and last
+      // output samples sit (node), or the edges of the output's cells (cell).
+      const double s = window.scale, f = window.first;
+      const bool node = nin->axis[a].center == nrrdCenterNode;
+      failed = node ? nrrdResampleRangeSet(rsmc, a, f / s, (f + size[a] - 1) / s)
+                    : nrrdResampleRangeSet(rsmc, a, f / s - 0.5, (f + size[a]) / s - 0.5);
+    } else {
+      failed = nrrdResampleRangeFullSet(rsmc, a);
+    }
+  }
   failed = failed || nrrdResampleExecute(rsmc, nout);
   if (failed) {
     const std::string why = teem_error();
@@ -134,14 +146,14 @@ const std::vector<std::string>& volume_series_methods() {
 }
 
 Volume classic_resize_axes(const Volume& src, const std::array<int, 4>& size, const std::string& method,
-                           const std::array<bool, 4>& node_centred) {
+                           const std::array<bool, 4>& node_centred, const AxisWindow& window) {
   if (src.empty()) throw Error("resize: the volume is empty");
   const NrrdKernel* linear = nrrdKernelTent;
   const NrrdKernel* cubic = nrrdKernelCatmullRom;
   if (method == "quadrilinear" || method == "trilinear")
-    return teem_resample_axes(src, size, {linear, linear, linear, linear}, node_centred);
+    return teem_resample_axes(src, size, {linear, linear, linear, linear}, node_centred, window);
   if (method == "tricubic-linear" || method == "tricubic")
-    return teem_resample_axes(src, size, {cubic, cubic, cubic, linear}, node_centred);
+    return teem_resample_axes(src, size, {cubic, cubic, cubic, linear}, node_centred, window);
   throw Error("unknown volume method '" + method + "' (valid: trilinear, tricubic, quadrilinear, tricubic-linear)");
 }
 

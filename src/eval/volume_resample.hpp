@@ -45,8 +45,16 @@ Volume teem_resample(const Volume& src, int nx, int ny, int nz, const std::strin
 // Indices are clamped outside the samples (bleed), as in 3D. A 3D volume
 // (nt = 1) with "trilinear" or "tricubic" takes this path too when one of
 // its axes is node-centred.
+// `window`, when its scale is > 0: along its axis, output sample j is sample
+// first + j of the grid of that scale aligned with the input as above
+// (node-centred: at input position (first + j) / scale), what the mesh
+// methods' VolumeUpscaleOptions::last_axis gives (fractional time scales).
+struct AxisWindow {
+  int axis = 3;
+  double scale = 0, first = 0;
+};
 const std::vector<std::string>& volume_series_methods();  // {"quadrilinear", "tricubic-linear"}
 Volume classic_resize_axes(const Volume& src, const std::array<int, 4>& size, const std::string& method,
-                           const std::array<bool, 4>& node_centred);
+                           const std::array<bool, 4>& node_centred, const AxisWindow& window = {});
 
 }  // namespace ddt

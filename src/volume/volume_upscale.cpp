@@ -8,6 +8,7 @@
 #include "eval/volume_resample.hpp"
 #include "image/cubic_surface.hpp"
 #include "volume/presmooth.hpp"
+#include "volume/volume_tiles.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -173,14 +174,19 @@ bool is_3d(const Volume& src, const std::array<int, 4>& size) { return src.nt ==
 // The classic methods, channel by channel.
 Volume classic_upscale(const Volume& src, const std::array<int, 4>& size, const VolumeUpscaleOptions& options) {
   const bool node_axes = options.node_centred[0] || options.node_centred[1] || options.node_centred[2];
+  AxisWindow window;
+  window.axis = is_3d(src, size) ? 2 : 3;
+  window.scale = options.last_axis.scale;
+  window.first = options.last_axis.first;
   Volume out(size, src.channels, 0.0f);
   for (int c = 0; c < src.channels; ++c) {
     const Volume channel = src.channels == 1 ? src : volume_channel(src, c);
     // 3D without node-centred axes: the 3D resamplers as they always were.
     set_volume_channel(out, c,
-                       is_3d(src, size) && !node_axes
+                       is_3d(src, size) && !node_axes && window.scale == 0
                            ? classic_resize_volume(channel, size[0], size[1], size[2], to_string(options.method))
-                           : classic_resize_axes(channel, size, to_string(options.method), options.node_centred));
+                           : classic_resize_axes(channel, size, to_string(options.method), options.node_centred,
+                                                 window));
   }
   return out;
 }
@@ -199,6 +205,14 @@ std::array<bool, 4> mesh_problem_axes(const std::array<int, 4>& in) {
 int enlarged_size(int n, double s, bool node_centred) {
   const double m = node_centred && n > 1 ? std::round((n - 1) * s) + 1 : std::round(n * s);
   return static_cast<int>(std::clamp(m, 1.0, 2147483647.0));
+}
+
+int scale_time_axis(int steps, double time_scale, VolumeUpscaleOptions& options) {
+  if (!options.node_centred[3] || steps < 2 || time_scale == std::floor(time_scale))
+    return enlarged_size(steps, time_scale, options.node_centred[3]);
+  options.last_axis.scale = time_scale;
+  options.last_axis.first = 0;
+  return tiled_output_slices(steps, time_scale, true);
 }
 
 int volume_region_slices(const std::array<int, 4>& size) {

@@ -160,4 +160,12 @@ std::array<bool, 4> mesh_problem_axes(const std::array<int, 4>& in);
 // (at least 1), or (n - 1) s + 1 rounded on a node-centred axis (n > 1).
 int enlarged_size(int n, double s, bool node_centred);
 
+// The output steps of a series' time axis enlarged by time_scale, counted
+// as image sequences count frames (sequence_upscale.hpp): node-centred (time
+// steps are instants), floor((n - 1) s) + 1 steps at the instants g / s,
+// so a fractional s sets options.last_axis (every method samples them
+// there); a whole s gives (n - 1) s + 1 as enlarged_size; cell-centred,
+// enlarged_size's round(n s).
+int scale_time_axis(int steps, double time_scale, VolumeUpscaleOptions& options);
+
 }  // namespace ddt

@@ -40,6 +40,17 @@ def test_series_linear_field_is_exact_for_every_method():
         np.testing.assert_allclose(out, 0.1 + 0.02 * X - 0.03 * Y + 0.01 * Z + 0.05 * T, atol=3e-6)
 
 
+def test_series_fractional_time_scale_samples_the_instants_g_over_t():
+    # As image sequences count frames: 4 steps at 2.4 become floor(3 * 2.4) + 1 = 8, step g at instant g / 2.4.
+    t, z, y, x = np.mgrid[0:4, 0:3, 0:3, 0:4].astype(np.float64)
+    series = 0.1 + 0.02 * x - 0.03 * y + 0.01 * z + 0.05 * t
+    for method in ("ddt", "quadrilinear"):
+        out = ddtscale.upscale_volume(series, 1, time_scale=2.4, method=method)
+        assert out.shape == (8, 3, 3, 4)
+        T = np.arange(8)[:, None, None, None] / 2.4
+        np.testing.assert_allclose(out, 0.1 + 0.02 * x[0] - 0.03 * y[0] + 0.01 * z[0] + 0.05 * T, atol=3e-6)
+
+
 @pytest.mark.parametrize("array,kwargs,message", [
     (np.zeros((3, 3, 3, 3), np.float32), dict(scale=2, time_scale=-1), "time-scale"),
     (np.zeros((3, 3, 3), np.float32), dict(scale=2, time_scale=2), "series"),

@@ -50,11 +50,12 @@ VolumeUpscaleOptions series_method(const std::string& m, Render render = Render:
 }
 
 // Worst error against the linear field, space clamped into the samples'
-// box, node-centred time (output step T at input T / s + 0.5); `margin`
-// input voxels at the spatial border skipped (Catmull-Rom with clamped
-// indices is linear only inside).
-double worst_linear4_error(const Volume& out, const std::array<int, 4>& in, double margin = 0) {
-  const double st = double(out.nt - 1) / (in[3] - 1);
+// box, node-centred time (output step T at input T / s + 0.5, s the time
+// scale, or the steps' ratio when 0); `margin` input voxels at the spatial
+// border skipped (Catmull-Rom with clamped indices is linear only inside).
+double worst_linear4_error(const Volume& out, const std::array<int, 4>& in, double margin = 0,
+                           double time_scale = 0) {
+  const double st = time_scale > 0 ? time_scale : double(out.nt - 1) / (in[3] - 1);
   double worst = 0;
   for (int T = 0; T < out.nt; ++T)
     for (int Z = 0; Z < out.nz; ++Z)
@@ -90,6 +91,32 @@ TEST_CASE("upscale_volume (series): a 4D linear field is reproduced by every met
       CHECK(worst_linear4_error(o, in, m == "tricubic-linear" ? 2.0 : 0.0) < 3e-6);
       if (m == "ddt" || m == "delaunay") CHECK(st.tetrahedra == 24LL * 3 * 2 * 4 * 3);  // 24 simplices a cell
     }
+}
+
+TEST_CASE("upscale_volume (series): a fractional time scale samples the instants g / T, by every method") {
+  const std::array<int, 4> in{4, 3, 5, 5};
+  const Volume v = sampled_series(in, linear4);
+  for (const double T : {2.5, 60.0 / 25, 0.5})
+    for (const std::string m : {"ddt", "delaunay", "quadrilinear", "tricubic-linear"}) {
+      CAPTURE(T);
+      CAPTURE(m);
+      // Teem widens its kernels where it reduces (anti-aliasing): the classic methods sample only at T >= 1.
+      if (T < 1 && !is_mesh_method(volume_method_by_name(m))) continue;
+      VolumeUpscaleOptions o = series_method(m);
+      const int steps = scale_time_axis(in[3], T, o);
+      CHECK(steps == static_cast<int>(std::floor(4 * T + 1e-9)) + 1);  // 11, 10, 3: as sequences count frames
+      CHECK(o.last_axis.scale == T);
+      const Volume out = upscale_volume(v, {10, 7, 11, steps}, o);
+      CHECK(worst_linear4_error(out, in, m == "tricubic-linear" ? 2.0 : 0.0, T) < 3e-6);
+    }
+  // A whole scale keeps the steps' arithmetic (no window), and cell-centred time rounds n * T.
+  VolumeUpscaleOptions whole = series_method("ddt");
+  CHECK(scale_time_axis(5, 3, whole) == 13);
+  CHECK(whole.last_axis.scale == 0);
+  VolumeUpscaleOptions cells = series_method("ddt");
+  cells.node_centred[3] = false;
+  CHECK(scale_time_axis(5, 2.5, cells) == 13);
+  CHECK(cells.last_axis.scale == 0);
 }
 
 TEST_CASE("upscale_volume (series): input samples kept bit for bit at x3 in space, node-centred time x2 and x3") {
