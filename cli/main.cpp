@@ -124,9 +124,7 @@ int run_upscale_job(UpscaleArguments args) {
     ddt::ImageFile file = ddt::read_image(args.input, limits);
     log("read: " + args.input + ", " + std::to_string(file.image.width) + "x" + std::to_string(file.image.height) +
         "x" + std::to_string(file.image.channels) + ", " + std::to_string(seconds_since(t0)) + " s");
-    if (file.pages > 1 && !args.quiet)
-      std::cerr << "ddtscale: warning: '" << args.input << "' holds " << (file.pages > 2 ? std::to_string(file.pages) : "2 or more")
-                << " pages or parts; only the first is enlarged\n";
+    if (file.pages > 1 && !args.quiet) std::cerr << "ddtscale: warning: " << ddt::pages_warning(args.input, file.pages) << "\n";
     options.alpha_channel = file.alpha_channel;
     const OIIO::ParamValueList metadata = ddt::scaled_metadata(
         file.metadata, double(out_w) / file.image.width, double(out_h) / file.image.height);

@@ -33,13 +33,31 @@ void log_line(const UpscaleOptions& options, const std::string& line) {
   if (options.log) options.log(line);
 }
 
+// The writer the enlargement hands its bands of rows to (io/band_writer.hpp).
+std::unique_ptr<ImageBandWriter> stream_into(const FileUpscaleJob& job, const FileUpscaleResult& result,
+                                             UpscaleOptions& options, int channels, SampleFormat format,
+                                             int alpha_channel, const OIIO::ParamValueList& metadata) {
+  auto writer = file_step([&] {
+    return std::make_unique<ImageBandWriter>(job.output, result.width, result.height, channels, format, alpha_channel,
+                                             &metadata, job.encode);
+  });
+  options.output_rows = [w = writer.get()](Image rows, int first_row) {
+    file_step([&] { w->write(std::move(rows), first_row); });
+  };
+  return writer;
+}
+
 void warn_of_pages(const FileUpscaleJob& job, int pages) {
-  if (pages > 1 && job.warn)
-    job.warn("'" + job.input + "' holds " + (pages > 2 ? std::to_string(pages) : "2 or more") +
-             " pages or parts; only the first is enlarged");
+  if (pages > 1 && job.warn) job.warn(pages_warning(job.input, pages));
 }
 
 }  // namespace
+
+std::string pages_warning(const std::string& input, int pages) {
+  if (pages <= 1) return {};
+  return "'" + input + "' holds " + (pages > 2 ? std::to_string(pages) : "2 or more") +
+         " pages or parts; only the first is enlarged";
+}
 
 double upscale_job_bytes(int width, int height, int channels, int out_width, int out_height,
                          const UpscaleOptions& options, bool streamed, int output_images) {
@@ -101,23 +119,18 @@ FileUpscaleResult upscale_file(FileUpscaleJob job) {
     options.alpha_channel = header.alpha_channel;
     const OIIO::ParamValueList metadata = scaled_metadata(reader->file().metadata, double(result.width) / header.width,
                                                           double(result.height) / header.height);
-    writer = file_step([&] {
-      return std::make_unique<ImageBandWriter>(job.output, result.width, result.height, header.channels, header.format,
-                                               header.alpha_channel, &metadata, job.encode);
-    });
-    options.output_rows = [&writer](Image rows, int first_row) {
-      file_step([&] { writer->write(std::move(rows), first_row); });
-    };
-    result.bands = options.tile_rows > 0 ? options.tile_rows
-                                         : banded_rows(header.width, header.height, header.channels, result.width,
-                                                       result.height, 0.5 * double(available_memory()));
-    log_line(options, "read by bands of " + std::to_string(result.bands) + " rows: " + job.input + ", " +
+    writer = stream_into(job, result, options, header.channels, header.format, header.alpha_channel, metadata);
+    const int band_rows = options.tile_rows > 0 ? options.tile_rows
+                                                : banded_rows(header.width, header.height, header.channels,
+                                                              result.width, result.height,
+                                                              0.5 * double(available_memory()));
+    log_line(options, "read by bands of " + std::to_string(band_rows) + " rows: " + job.input + ", " +
                           std::to_string(header.width) + "x" + std::to_string(header.height) + "x" +
                           std::to_string(header.channels));
     ImageRowReader& rows = *reader;
     const RowSource source{header.width, header.height, header.channels,
                            [&rows](int first, int end, float* p) { file_step([&] { rows.read(first, end, p); }); }};
-    result.stats = upscale_banded(source, result.width, result.height, options, result.bands);
+    result.stats = upscale_banded(source, result.width, result.height, options, band_rows);
     result.bands = result.stats.tiles;
     log_line(options, "bands: " + std::to_string(result.stats.tiles) + ", margin " +
                           std::to_string(result.stats.tile_margin) + " rows, " + std::to_string(seconds_since(t0)) +
@@ -136,15 +149,8 @@ FileUpscaleResult upscale_file(FileUpscaleJob job) {
     options.alpha_channel = file.alpha_channel;
     const OIIO::ParamValueList metadata = scaled_metadata(file.metadata, double(result.width) / file.image.width,
                                                           double(result.height) / file.image.height);
-    if (job.stream) {
-      writer = file_step([&] {
-        return std::make_unique<ImageBandWriter>(job.output, result.width, result.height, file.image.channels,
-                                                 file.format, file.alpha_channel, &metadata, job.encode);
-      });
-      options.output_rows = [&writer](Image rows, int first_row) {
-      file_step([&] { writer->write(std::move(rows), first_row); });
-    };
-    }
+    if (job.stream)
+      writer = stream_into(job, result, options, file.image.channels, file.format, file.alpha_channel, metadata);
     const Image out = upscale(file.image, result.width, result.height, options, &result.stats);
     if (!writer) {
       if (options.progress) options.progress->begin("write");

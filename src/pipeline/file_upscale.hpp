@@ -50,6 +50,10 @@ FileUpscaleResult upscale_file(FileUpscaleJob job);
 double upscale_job_bytes(int width, int height, int channels, int out_width, int out_height,
                          const UpscaleOptions& options, bool streamed, int output_images = 1);
 
+// The one-line warning for an input of several pages or parts (only the
+// first is enlarged); empty for one.
+std::string pages_warning(const std::string& input, int pages);
+
 // Whether the job may run by bands of rows (upscale_banded's requirements).
 bool can_upscale_by_bands(int width, int height, const UpscaleOptions& options);
 
