@@ -38,22 +38,6 @@ namespace {
 
 using ddt::seconds_since;
 
-ddt::UpscaleOptions upscale_options(const UpscaleArguments& args) {
-  ddt::UpscaleOptions options;
-  options.cost = args.cost;
-  options.luma_cost = args.cost_channel == "luma";
-  options.optimize = !args.no_optimize;
-  options.render = ddt::render_by_name(args.render);
-  options.slopes = ddt::slope_limiter_by_name(args.slopes);
-  options.model = ddt::parse_acquisition_model(args.model);
-  options.step_edges = !args.no_step_edges;
-  options.relative_tolerance = args.tolerance;
-  options.optimizer = ddt::optimizer_by_name(args.optimizer);
-  options.anneal = args.anneal;
-  options.tile_rows = args.tile_rows;
-  return options;
-}
-
 // Runs the job `args` (validate_arguments passed); returns the exit status.
 int run_upscale_job(UpscaleArguments args) {
   try {

@@ -172,6 +172,22 @@ void validate_arguments(const UpscaleArguments& args) {
     throw ddt::Error("--mesh must name a file other than the output");
 }
 
+ddt::UpscaleOptions upscale_options(const UpscaleArguments& args) {
+  ddt::UpscaleOptions options;
+  options.cost = args.cost;
+  options.luma_cost = args.cost_channel == "luma";
+  options.optimize = !args.no_optimize;
+  options.render = ddt::render_by_name(args.render);
+  options.slopes = ddt::slope_limiter_by_name(args.slopes);
+  options.model = ddt::parse_acquisition_model(args.model);
+  options.step_edges = !args.no_step_edges;
+  options.relative_tolerance = args.tolerance;
+  options.optimizer = ddt::optimizer_by_name(args.optimizer);
+  options.anneal = args.anneal;
+  options.tile_rows = args.tile_rows;
+  return options;
+}
+
 ddt::SizeRequest size_request(const UpscaleArguments& args) {
   ddt::SizeRequest request;
   if (args.scale_given) request.scale = args.scale;

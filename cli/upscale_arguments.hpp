@@ -11,6 +11,7 @@
 //                               --mesh naming the output): ddt::Error
 //   size_request                --scale / --width / --height / --max-pixels
 //                               as the library's SizeRequest
+//   upscale_options             the method's flags as UpscaleOptions
 // None of them reads or writes a file, prints, or starts a thread.
 
 #include "batch.hpp"
@@ -85,3 +86,6 @@ void validate_arguments(const UpscaleArguments& args);
 
 // --scale / --width / --height / --max-pixels as given (pipeline/output_size.hpp).
 ddt::SizeRequest size_request(const UpscaleArguments& args);
+
+// The library's options for the job (without log and progress, which the run sets).
+ddt::UpscaleOptions upscale_options(const UpscaleArguments& args);

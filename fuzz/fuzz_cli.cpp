@@ -9,6 +9,8 @@
 
 #include "image/mesh_view.hpp"
 #include "io/image_io.hpp"
+#include "pipeline/file_upscale.hpp"
+#include "pipeline/output_size.hpp"
 #include "util/error.hpp"
 
 #include <cmath>
@@ -31,16 +33,17 @@ void check_refusal(const ddt::Error& e) { require(one_line(e.what())); }
 void size_job(const UpscaleArguments& args, int in_w, int in_h, int channels) {
   int out_w = 0, out_h = 0;
   try {
-    output_size(args, in_w, in_h, out_w, out_h);
+    ddt::output_size(size_request(args), in_w, in_h, out_w, out_h);
   } catch (const ddt::Error& e) {
     check_refusal(e);
     return;
   }
   require(out_w >= 1 && out_h >= 1 && double(out_w) * out_h <= double(args.max_pixels));
-  ddt::ImageHeader header;
-  header.width = in_w, header.height = in_h, header.channels = channels;
-  const double bytes = image_job_bytes(args, header, out_w, out_h);
-  require(std::isfinite(bytes) && bytes > 0);
+  const ddt::UpscaleOptions options = upscale_options(args);
+  for (const bool streamed : {false, true}) {
+    const double bytes = ddt::upscale_job_bytes(in_w, in_h, channels, out_w, out_h, options, streamed);
+    require(std::isfinite(bytes) && bytes > 0);
+  }
   if (!args.mesh_roi.empty()) {
     try {
       ddt::check_region(ddt::parse_region(args.mesh_roi), in_w, in_h);
