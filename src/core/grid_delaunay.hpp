@@ -10,7 +10,7 @@
 // triangulation likewise): points ordered lexicographically, lifted by
 // infinitesimals in that order. That refines each cube by the order of its
 // corners, the same in every cube (a translation keeps the order). So CGAL
-// triangulates one cube, and its pattern is repeated and put in
+// triangulates one cube, and its pattern is repeated in
 // core::delaunay's canonical order (each cell's ids ascending, the last two
 // swapped for a positive orientation; cells sorted). The corner offsets grow
 // with the corner number, so a translated cell keeps the pattern's order and
@@ -22,8 +22,9 @@
 // Output: SimplexMesh<D> without free slots. A grid with a side of 1 falls
 //   back to core::delaunay<D> (a flat grid gives no cells).
 // Cells per grid cube: D = 3: 6, D = 4: 24 (the pattern's count).
-// Complexity: O(n log n) for the canonical sort, parallel (TBB); memory
-//   about (2 (D+1) + 2) 4-byte words per cell during the build.
+// Complexity: O(n), parallel (TBB), without a sort: the cells under each
+//   vertex come in one order for every vertex (grid_delaunay.cpp,
+//   CanonicalSlots); memory: the output's 2 (D+1) 4-byte words per cell.
 
 #include "core/simplex_mesh.hpp"
 
@@ -33,5 +34,14 @@ namespace ddt::core {
 
 template <int D>
 SimplexMesh<D> grid_delaunay(const std::array<int, D>& size);
+
+// The cells and glue of grid_delaunay<D> alone (the caller has its points;
+// 2D images keep theirs as Point2): every side at least 2. Returns false,
+// leaving both arrays as they were, where the pattern does not repeat
+// (a side of 1; a pattern whose opposite faces split differently, never
+// seen): then core::delaunay<D> of the points is the answer.
+// Errors: throws ddt::Error when the cells' ids would overflow index_t.
+template <int D>
+bool grid_delaunay_cells(const std::array<int, D>& size, std::vector<index_t>& cell, std::vector<index_t>& opp);
 
 }  // namespace ddt::core

@@ -1,6 +1,7 @@
 #include "image/triangulation.hpp"
 
 #include "core/check_mesh.hpp"
+#include "core/grid_delaunay.hpp"
 
 #include <CGAL/Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -141,30 +142,9 @@ void flat_from_cgal(DT& dt, std::vector<index_t>& tri, std::vector<index_t>& opp
 }
 
 // ---------------------------------------------------------------------------
-// Pixel grids. The points are a row-major W x H lattice with unit spacing.
-// Every 2x2 block of it is cocircular and no other lattice point lies in
-// that circle, so every Delaunay triangulation (perturbed or not) splits
-// each cell by one diagonal, and the perturbed choice depends only on the
-// cell's four points. The lattice is therefore cut into blocks of cells;
-// CGAL triangulates each block (its points in block-local integer
-// coordinates), the tie-break is applied, and the blocks are stitched:
-// the union is exactly the perturbed Delaunay triangulation of the whole
-// grid, in the same canonical order. Blocks are small so that CGAL's
-// structure stays in cache (its cost per point triples on large grids);
-// block rows are built in parallel.
-//
-// Exactness: CGAL's Simple_cartesian<double> evaluates its predicates in
-// plain double arithmetic. On integer coordinates below 2^12 every
-// intermediate of orientation (< 2^25) and in-circle (< 8 * 2^48) is an
-// integer below 2^53, hence exact; blocks are far smaller than that.
-
-using GridKernel = CGAL::Simple_cartesian<double>;
-using GridVertexBase = CGAL::Triangulation_vertex_base_with_info_2<index_t, GridKernel>;
-using GridFaceBase = CGAL::Triangulation_face_base_with_info_2<index_t, GridKernel>;
-using GridTds = CGAL::Triangulation_data_structure_2<GridVertexBase, GridFaceBase>;
-using GridDelaunay = CGAL::Delaunay_triangulation_2<GridKernel, GridTds>;
-
-constexpr int block_cells = 16;  // cells per block side (CPU time per point: 12-16 best, 32 1.6x)
+// Pixel grids: the Delaunay triangulation of a lattice repeats one cell's
+// (core/grid_delaunay.hpp), equal to the perturbed one here (tests check
+// it against Lawson's flips from either diagonal).
 
 // True when points[i] == (x0 + i % W, y0 + i / W) for some W, H >= 2.
 bool is_unit_grid(const std::vector<Point2>& points, int& W, int& H) {
@@ -185,204 +165,20 @@ bool is_unit_grid(const std::vector<Point2>& points, int& W, int& H) {
   return true;
 }
 
-// Hilbert-curve order of the points of a w x h block (row-major local ids).
-std::vector<index_t> hilbert_order(int w, int h) {
-  int n = 1;
-  while (n < w || n < h) n *= 2;
-  std::vector<index_t> order;
-  order.reserve(static_cast<std::size_t>(w) * h);
-  for (long d = 0; d < static_cast<long>(n) * n; ++d) {
-    int x = 0, y = 0;
-    long t = d;
-    for (int s = 1; s < n; s *= 2) {
-      const int rx = static_cast<int>(1 & (t / 2)), ry = static_cast<int>(1 & (t ^ rx));
-      if (ry == 0) {
-        if (rx == 1) x = s - 1 - x, y = s - 1 - y;
-        std::swap(x, y);
-      }
-      x += s * rx;
-      y += s * ry;
-      t /= 4;
-    }
-    if (x < w && y < h) order.push_back(y * w + x);
-  }
-  return order;
-}
-
-// Orientation and in-circle on block-local integer coordinates, in
-// GridKernel's plain double arithmetic: exact there (see above).
-using GridPoint = GridKernel::Point_2;
-int orient_int(const GridPoint& p, const GridPoint& q, const GridPoint& r) {
-  return static_cast<int>(CGAL::orientation(p, q, r));
-}
-int in_circle_int(const GridPoint& a, const GridPoint& b, const GridPoint& c, const GridPoint& d) {
-  return static_cast<int>(CGAL::side_of_oriented_circle(a, b, c, d));
-}
-
-// The perturbed Delaunay triangulation of the block of lattice points
-// (x, y), 0 <= x < w, whose local ids y * w + x `order` lists, in CGAL's
-// face order (sorted when stitched).
-void triangulate_block(int w, const std::vector<index_t>& order, std::vector<index_t>& tri,
-                       std::vector<index_t>& opp) {
-  GridDelaunay dt;
-  GridDelaunay::Face_handle hint;
-  for (index_t id : order) {
-    auto vh = dt.insert(GridKernel::Point_2(id % w, id / w), hint);
-    vh->info() = id;
-    hint = vh->face();
-  }
-  flat_from_cgal(dt, tri, opp);
-  Mesh2 local;
-  local.tri.swap(tri);
-  local.opp.swap(opp);
-  auto at = [w](index_t id) { return GridPoint(id % w, id / w); };
-  auto violates = [&](const Mesh2& m, index_t e) {
-    const index_t f = m.opp[e];
-    if (f == no_edge) return false;
-    const std::array<index_t, 4> ids = {m.tri[e], m.tri[f], m.tri[prev_edge(e)], m.tri[prev_edge(f)]};
-    const std::array<GridPoint, 4> p = {at(ids[0]), at(ids[1]), at(ids[2]), at(ids[3])};
-    return perturbed_violation(in_circle_int(p[0], p[1], p[2], p[3]), ids,
-                               [&](int i, int j, int k) { return orient_int(p[i], p[j], p[k]); });
-  };
-  auto flippable = [&](const Mesh2& m, index_t e) {
-    const index_t f = m.opp[e];
-    const GridPoint a = at(m.tri[e]), b = at(m.tri[f]), c = at(m.tri[prev_edge(e)]), d = at(m.tri[prev_edge(f)]);
-    return orient_int(d, c, a) > 0 && orient_int(c, d, b) > 0;
-  };
-  resolve_ties(local, violates, flippable);
-  tri.swap(local.tri);
-  opp.swap(local.opp);
-}
-
-Mesh2 grid_delaunay(const std::vector<Point2>& points, int W, int H) {
-  Mesh2 mesh;
+// The core's cells of the W x H grid as a Mesh2: the same triangles, and
+// facet slot 3t + (k + 2) % 3 is half-edge 3t + k (as_simplex_mesh).
+bool grid_delaunay(const std::vector<Point2>& points, int W, int H, Mesh2& mesh) {
+  std::vector<index_t> facet_opp;
+  if (!core::grid_delaunay_cells<2>({W, H}, mesh.tri, facet_opp)) return false;
   mesh.points = points;
-  const int cells_x = W - 1, cells_y = H - 1;
-  const std::size_t row_tris = 2 * static_cast<std::size_t>(cells_x);  // triangles per row of cells
-  mesh.tri.assign(3 * row_tris * cells_y, index_t(0));
-  mesh.opp.assign(mesh.tri.size(), index_t(0));
-  const int blocks_x = (cells_x + block_cells - 1) / block_cells;
-  const int blocks_y = (cells_y + block_cells - 1) / block_cells;
-  const std::vector<index_t> full_order = hilbert_order(block_cells + 1, block_cells + 1);
-
-  // top[j][x]: the half-edge of block row j along its top side, from (x, y0)
-  // to (x + 1, y0) or back; bottom[j][x] likewise. Linked once all rows exist.
-  std::vector<std::vector<index_t>> top(blocks_y), bottom(blocks_y);
-  std::vector<char> failed(blocks_y, 0);
-
-  tbb::parallel_for(0, blocks_y, [&](int j) {
-    const int cy0 = j * block_cells, cy1 = std::min(cells_y, cy0 + block_cells);
-    const std::size_t base = row_tris * cy0;  // first triangle of this block row
-    const std::size_t count = row_tris * (cy1 - cy0);
-    // Triangles of the block row keyed by their smallest vertex, which lies
-    // on rows cy0 .. cy1 - 1 (each triangle is half a cell).
-    const std::size_t first_vertex = static_cast<std::size_t>(cy0) * W;
-    const std::size_t key_range = static_cast<std::size_t>(cy1 - cy0) * W;
-    struct Record {
-      index_t ids[3];        // global ids, rotated to start at the smallest
-      index_t local_opp[3];  // twins as half-edges of the block's own numbering
-      int block;
-      int rotation;          // slot k holds the block's slot (rotation + k) % 3
-    };
-    std::vector<Record> records;
-    records.reserve(count);
-    std::vector<index_t> block_first(blocks_x + 1, 0);  // first record of each block
-    std::vector<index_t> tri, opp;
-    for (int i = 0; i < blocks_x; ++i) {
-      const int cx0 = i * block_cells, cx1 = std::min(cells_x, cx0 + block_cells);
-      const int w = cx1 - cx0 + 1, h = cy1 - cy0 + 1;
-      triangulate_block(w, w == block_cells + 1 && h == block_cells + 1 ? full_order : hilbert_order(w, h), tri, opp);
-      block_first[i] = static_cast<index_t>(records.size());
-      for (std::size_t t = 0; t < tri.size() / 3; ++t) {
-        const index_t* v = &tri[3 * t];
-        Record r;
-        r.rotation = v[0] < v[1] ? (v[0] < v[2] ? 0 : 2) : (v[1] < v[2] ? 1 : 2);
-        for (int k = 0; k < 3; ++k) {
-          const index_t id = v[(r.rotation + k) % 3];
-          r.ids[k] = (cy0 + id / w) * W + (cx0 + id % w);  // monotone: local order is global order
-          r.local_opp[k] = opp[3 * t + (r.rotation + k) % 3];
-        }
-        r.block = i;
-        records.push_back(r);
-      }
-    }
-    block_first[blocks_x] = static_cast<index_t>(records.size());
-    if (records.size() != count) {
-      failed[j] = 1;
-      return;
-    }
-    // Counting sort by smallest id; ties (a vertex on a vertical seam can
-    // be the smallest of triangles in two blocks) sorted by the others.
-    std::vector<index_t> start(key_range + 1, 0);
-    for (const Record& r : records) {
-      const std::size_t key = static_cast<std::size_t>(r.ids[0]) - first_vertex;
-      if (r.ids[0] < static_cast<index_t>(first_vertex) || key >= key_range) {
-        failed[j] = 1;
-        return;
-      }
-      ++start[key + 1];
-    }
-    for (std::size_t k = 0; k < key_range; ++k) start[k + 1] += start[k];
-    std::vector<index_t> rank(records.size());
-    {
-      std::vector<index_t> cursor(start.begin(), start.end() - 1);
-      std::vector<index_t> order(records.size());
-      for (std::size_t r = 0; r < records.size(); ++r)
-        order[cursor[records[r].ids[0] - first_vertex]++] = static_cast<index_t>(r);
-      for (std::size_t k = 0; k < key_range; ++k)
-        if (start[k + 1] - start[k] > 1)
-          std::sort(order.begin() + start[k], order.begin() + start[k + 1], [&](index_t a, index_t b) {
-            return std::array<index_t, 2>{records[a].ids[1], records[a].ids[2]} <
-                   std::array<index_t, 2>{records[b].ids[1], records[b].ids[2]};
-          });
-      for (std::size_t r = 0; r < order.size(); ++r) rank[order[r]] = static_cast<index_t>(r);
-    }
-    // Write triangles and the twins inside blocks; collect seam edges.
-    std::vector<std::pair<std::int64_t, index_t>> vertical;  // (edge key, global half-edge)
-    top[j].assign(W - 1, no_edge);
-    bottom[j].assign(W - 1, no_edge);
-    for (std::size_t r = 0; r < records.size(); ++r) {
-      const Record& rec = records[r];
-      const std::size_t t = base + rank[r];
-      for (int k = 0; k < 3; ++k) {
-        const index_t e = static_cast<index_t>(3 * t + k);
-        mesh.tri[e] = rec.ids[k];
-        const index_t lo = rec.local_opp[k];
-        if (lo != no_edge) {
-          const index_t twin = block_first[rec.block] + lo / 3;
-          mesh.opp[e] = static_cast<index_t>(3 * (base + rank[twin]) + (lo % 3 - records[twin].rotation + 3) % 3);
-          continue;
-        }
-        mesh.opp[e] = no_edge;
-        const index_t u = rec.ids[k], v = rec.ids[(k + 1) % 3];
-        const index_t lo_id = std::min(u, v);
-        const int x = lo_id % W, y = lo_id / W;
-        if (u / W == v / W) {  // horizontal hull edge of the block: top or bottom side
-          if (y == cy0 && y > 0) top[j][x] = e;
-          if (y == cy1 && y < cells_y) bottom[j][x] = e;
-        } else if (x > 0 && x < cells_x) {  // vertical, on a seam between blocks
-          vertical.emplace_back(static_cast<std::int64_t>(lo_id), e);
-        }
-      }
-    }
-    std::sort(vertical.begin(), vertical.end());
-    for (std::size_t k = 0; k + 1 < vertical.size(); k += 2) {
-      if (vertical[k].first != vertical[k + 1].first) {
-        failed[j] = 1;
-        return;
-      }
-      mesh.link(vertical[k].second, vertical[k + 1].second);
-    }
-    if (vertical.size() % 2 != 0) failed[j] = 1;
+  mesh.opp = std::move(facet_opp);
+  auto half_edge = [](index_t slot) { return slot < 0 ? slot : 3 * tri_of(slot) + (slot % 3 + 1) % 3; };
+  tbb::parallel_for(std::size_t(0), mesh.tri.size() / 3, [&](std::size_t t) {
+    index_t* o = &mesh.opp[3 * t];
+    const index_t across[3] = {half_edge(o[2]), half_edge(o[0]), half_edge(o[1])};
+    std::copy(across, across + 3, o);
   });
-  for (int j = 0; j + 1 < blocks_y; ++j)
-    for (int x = 0; x < W - 1; ++x) {
-      if (bottom[j][x] == no_edge || top[j + 1][x] == no_edge) failed[j] = 1;
-      else mesh.link(bottom[j][x], top[j + 1][x]);
-    }
-  if (std::find(failed.begin(), failed.end(), 1) != failed.end())
-    throw std::logic_error("grid_delaunay: a block did not triangulate as a lattice");  // never expected
-  return mesh;
+  return true;
 }
 
 Mesh2 general_delaunay(const std::vector<Point2>& points) {
@@ -427,7 +223,8 @@ bool violates_perturbed_delaunay(const Mesh2& mesh, index_t e) {
 
 Mesh2 delaunay_triangulation(const std::vector<Point2>& points) {
   int W = 0, H = 0;
-  if (is_unit_grid(points, W, H)) return grid_delaunay(points, W, H);
+  Mesh2 grid;
+  if (is_unit_grid(points, W, H) && grid_delaunay(points, W, H, grid)) return grid;
   return general_delaunay(points);
 }
 

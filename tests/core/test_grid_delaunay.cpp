@@ -40,7 +40,18 @@ void check_equal_to_cgal(const std::array<int, D>& n, int cells_per_cube) {
 }  // namespace
 
 TEST_CASE("core grid_delaunay<2>: the same arrays as CGAL's, two triangles per square") {
-  for (const auto& n : std::vector<std::array<int, 2>>{{2, 2}, {5, 3}, {4, 7}}) check_equal_to_cgal<2>(n, 2);
+  for (const auto& n : std::vector<std::array<int, 2>>{{2, 2}, {5, 3}, {4, 7}, {2, 6}, {6, 2}, {31, 17}})
+    check_equal_to_cgal<2>(n, 2);
+}
+
+TEST_CASE("core grid_delaunay_cells: the arrays of grid_delaunay, none for a flat grid") {
+  std::vector<index_t> cell = {7}, opp = {7};
+  CHECK_FALSE(grid_delaunay_cells<3>({4, 1, 4}, cell, opp));
+  CHECK(cell == std::vector<index_t>{7});  // left as it was
+  REQUIRE(grid_delaunay_cells<3>({5, 3, 4}, cell, opp));
+  const SimplexMesh<3> whole = grid_delaunay<3>({5, 3, 4});
+  CHECK(cell == whole.cell);
+  CHECK(opp == whole.opp);
 }
 
 TEST_CASE("core grid_delaunay<3>: the same arrays as CGAL's, six tetrahedra per cube") {

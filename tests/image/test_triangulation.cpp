@@ -46,6 +46,23 @@ TEST_CASE("delaunay_triangulation: cocircular ties match naive Lawson from eithe
   for (index_t e = 0; e < reference.half_edge_count(); ++e) CHECK_FALSE(violates_perturbed_delaunay(reference, e));
 }
 
+TEST_CASE("delaunay_triangulation: a pixel grid (the core's repeated cell) gives CGAL's arrays with the tie-break") {
+  // A repeated last point makes the same set no lattice, so it goes through
+  // CGAL and resolve_ties; the copy stays unreferenced, the arrays agree.
+  for (const auto& [w, h] : std::vector<std::pair<int, int>>{{2, 2}, {2, 9}, {9, 2}, {40, 31}, {33, 64}}) {
+    CAPTURE(w);
+    CAPTURE(h);
+    std::vector<Point2> points = test::grid_points(w, h);
+    const Mesh2 grid = delaunay_triangulation(points);
+    points.push_back(points.back());
+    const Mesh2 general = delaunay_triangulation(points);
+    CHECK(grid.tri == general.tri);
+    CHECK(grid.opp == general.opp);
+    CHECK(check_mesh(grid).empty());
+    CHECK(grid.triangle_count() == 2 * (w - 1) * (h - 1));
+  }
+}
+
 TEST_CASE("delaunay_triangulation: perturbed tie-break is antisymmetric on a square") {
   // One of the two diagonals of a cocircular square violates, never both.
   std::vector<Point2> p = {{0, 0}, {1, 1}, {0, 1}, {1, 0}};
