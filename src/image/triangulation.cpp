@@ -5,7 +5,6 @@
 
 #include <CGAL/Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Simple_cartesian.h>
 #include <CGAL/Triangulation_face_base_with_info_2.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
@@ -15,7 +14,6 @@
 #include <array>
 #include <cstdint>
 #include <map>
-#include <stdexcept>
 
 namespace ddt {
 namespace {

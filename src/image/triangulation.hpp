@@ -1,7 +1,9 @@
 #pragma once
 // ddt::delaunay_triangulation — the initial mesh: the 2D Delaunay
 // triangulation of arbitrary points, built by CGAL (exact predicates) and
-// handed over as flat arrays. Knows nothing of pixel grids.
+// handed over as flat arrays. Points that form a pixel grid (a row-major
+// lattice of unit spacing) take the core's repeated cell instead
+// (core/grid_delaunay.hpp): the same arrays, in O(n).
 //
 // Inputs:
 //   points  #V positions; any order, not all collinear for a 2D result
