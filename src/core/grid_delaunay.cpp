@@ -121,9 +121,8 @@ class CanonicalSlots {
   int line_class(std::size_t line) const {
     int c = 0;
     for (int k = 1, mul = 3; k < D; ++k, mul *= 3) {
-      const int pos = static_cast<int>(line % size_[k]);
+      c += mul * face(static_cast<int>(line % size_[k]), k);
       line /= size_[k];
-      c += mul * (pos == 0 ? 0 : pos == size_[k] - 1 ? 2 : 1);
     }
     return c;
   }
@@ -134,11 +133,11 @@ class CanonicalSlots {
     int c = 0;
     for (int k = D - 1; k >= 1; --k) {
       line = line * size_[k] + pos[k];
-      c = 3 * c + (pos[k] == 0 ? 0 : pos[k] == size_[k] - 1 ? 2 : 1);
+      c = 3 * c + face(pos[k], k);
     }
     c *= 3;
     const int x = pos[0];
-    const int own = c + (x == 0 ? 0 : x == size_[0] - 1 ? 2 : 1);
+    const int own = c + face(x, 0);
     const int r = rank_[static_cast<std::size_t>(own) * T_ + p];
     if (r < 0) return -1;
     const std::size_t before = x == 0 ? 0 : count_[c] + static_cast<std::size_t>(x - 1) * count_[c + 1];
@@ -146,6 +145,9 @@ class CanonicalSlots {
   }
 
  private:
+  // Along axis k: 0 on the low face, 1 inside, 2 on the high face.
+  int face(int pos, int k) const { return pos == 0 ? 0 : pos == size_[k] - 1 ? 2 : 1; }
+
   std::array<int, D> size_;
   int T_ = 0;
   std::vector<int> first_corner_, rank_;
