@@ -32,17 +32,12 @@ void output_size(const SizeRequest& request, int in_w, int in_h, int& out_w, int
     throw Error("give the magnification: --scale S, or --width W and/or --height H");
   }
   const long long pixels = checked_product({out_w, out_h});
-  if (pixels > request.max_pixels) {
-    // What a user enlarging a large scan needs to know: how big, and the
-    // value that allows it (a streamed output under --model point holds a
-    // few bands of it, not the whole).
-    char size[96];
-    std::snprintf(size, sizeof size, "%dx%d (%.0f Mpixels)", out_w, out_h, pixels / 1e6);
-    throw Error("output " + std::string(size) + " exceeds --max-pixels " + std::to_string(request.max_pixels) +
-                "; give --max-pixels " + std::to_string(pixels) + " to allow it");
-  }
-  check_size_limit("output", std::to_string(out_w) + "x" + std::to_string(out_h), pixels, request.max_pixels,
-                   "--max-pixels");
+  // What a user enlarging a large scan needs to know: how big, and the
+  // value that allows it (a streamed output under --model point holds a
+  // few bands of it, not the whole).
+  char size[96];
+  std::snprintf(size, sizeof size, "%dx%d (%.0f Mpixels)", out_w, out_h, pixels / 1e6);
+  check_size_limit("output", size, pixels, request.max_pixels, "--max-pixels");
 }
 
 }  // namespace ddt

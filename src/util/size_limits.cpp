@@ -34,7 +34,10 @@ long long default_max_input_points() { return physical_memory() / 1024; }
 void check_size_limit(const std::string& what, const std::string& size, long long count, long long limit,
                       const std::string& option) {
   if (count >= 0 && count <= limit) return;
-  throw Error(what + " " + size + " exceeds " + option + " " + std::to_string(limit));
+  // The value that allows it, where the count is one (not a header's
+  // overflowing claim).
+  const std::string allow = count >= 0 ? "; give " + option + " " + std::to_string(count) + " to allow it" : "";
+  throw Error(what + " " + size + " exceeds " + option + " " + std::to_string(limit) + allow);
 }
 
 long long checked_product(std::initializer_list<long long> sizes) {

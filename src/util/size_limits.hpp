@@ -36,9 +36,10 @@ long long default_max_input_pixels();
 long long default_max_input_voxels();
 long long default_max_input_points();
 
-// Throws "<what> <size> exceeds <option> <limit>" when count > limit;
-// e.g. check_size_limit("input 'a.png'", "30000x30000", 9e8, limit,
-// "--max-input-pixels"). count < 0 stands for a count past 2^63.
+// Throws "<what> <size> exceeds <option> <limit>; give <option> <count>
+// to allow it" when count > limit; e.g. check_size_limit("input 'a.png'",
+// "30000x30000", 9e8, limit, "--max-input-pixels"). count < 0 stands for
+// a count past 2^63 (no value to give then).
 void check_size_limit(const std::string& what, const std::string& size, long long count, long long limit,
                       const std::string& option);
 

@@ -28,8 +28,11 @@ TEST_CASE("checked_product and check_size_limit: the count, its overflow, the me
   CHECK(checked_product({-1, 4}) == -1);
   CHECK_NOTHROW(check_size_limit("input 'a'", "10x10", 100, 100, "--max"));
   CHECK_THROWS_WITH_AS(check_size_limit("input 'a'", "10x11", 110, 100, "--max"),
-                       "input 'a' 10x11 exceeds --max 100", Error);
-  CHECK_THROWS_AS(check_size_limit("input 'a'", "huge", -1, std::numeric_limits<long long>::max(), "--max"), Error);
+                       "input 'a' 10x11 exceeds --max 100; give --max 110 to allow it", Error);
+  // A count past 2^63 names no value to give.
+  CHECK_THROWS_WITH_AS(check_size_limit("input 'a'", "huge", -1, std::numeric_limits<long long>::max(), "--max"),
+                       ("input 'a' huge exceeds --max " + std::to_string(std::numeric_limits<long long>::max())).c_str(),
+                       Error);
 }
 
 TEST_CASE("memory: physical and available are positive, a job past them is refused, defaults follow the memory") {
@@ -48,7 +51,7 @@ TEST_CASE("read_image: the header's size is checked against the limit before the
   ImageReadLimits limits;
   limits.max_pixels = 40 * 30 - 1;
   CHECK_THROWS_WITH_AS(read_image(dir / "a.png", limits),
-                       ("input '" + (dir / "a.png") + "' 40x30 exceeds --max-input-pixels 1199").c_str(), Error);
+                       ("input '" + (dir / "a.png") + "' 40x30 exceeds --max-input-pixels 1199; give --max-input-pixels 1200 to allow it").c_str(), Error);
   limits.max_pixels = 40 * 30;
   ImageHeader seen;
   limits.check = [&](const ImageHeader& header) { seen = header; };
@@ -69,7 +72,7 @@ TEST_CASE("read_volume: the header's voxel count is checked before the data file
   VolumeReadOptions options;
   options.max_voxels = 119;
   CHECK_THROWS_WITH_AS(read_volume(dir / "v.nhdr", options),
-                       ("input '" + (dir / "v.nhdr") + "' 4x5x6 exceeds --max-input-voxels 119").c_str(), Error);
+                       ("input '" + (dir / "v.nhdr") + "' 4x5x6 exceeds --max-input-voxels 119; give --max-input-voxels 120 to allow it").c_str(), Error);
   // The data file is not opened for the refusal: a header that claims 2^60
   // voxels of a data file that holds nothing is refused by its claim.
   std::ofstream(dir / "bomb.nhdr") << "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 1048576 1048576 1048576\n"
@@ -78,7 +81,8 @@ TEST_CASE("read_volume: the header's voxel count is checked before the data file
   options.max_voxels = default_max_input_voxels();
   CHECK_THROWS_WITH_AS(read_volume(dir / "bomb.nhdr", options),
                        ("input '" + (dir / "bomb.nhdr") + "' 1048576x1048576x1048576 exceeds --max-input-voxels " +
-                        std::to_string(default_max_input_voxels()))
+                        std::to_string(default_max_input_voxels()) + "; give --max-input-voxels " +
+                        std::to_string(1LL << 60) + " to allow it")
                            .c_str(),
                        Error);
   options.max_voxels = 120;
