@@ -3,7 +3,8 @@
 #   1. frame-rate upsampling x4 of the moving scenes against the truth
 #      (128x128, 17 kept frames -> 65): docs/sequences/experiments.md and
 #      the pictures docs/sequences/*-frames.png, *-xt.png;
-#   2. the same at other speeds (motion x0.25 .. x2): docs/sequences/speeds.md;
+#   2. the same at other speeds (motion x0.25 .. x2), the photographs'
+#      pan and zoom too: docs/sequences/speeds.md;
 #      and a frame-rate conversion by 5/2 (24 to 60 frames a second):
 #      docs/sequences/ratio.md;
 #   3. the benchmark: a 256x256 x 64-frame RGB sequence (FFmpeg's testsrc2)
@@ -35,9 +36,10 @@ if [ "$what" = all ] || [ "$what" = speeds ]; then
     echo "| speed | scene | blend | minterpolate | ddt |"
     echo "|---|---|---|---|---|"
     for speed in 0.25 0.5 1 2; do
-      "$bin" sequence-eval --scenes disk,bar,strokes --methods blend,minterpolate,ddt --speed "$speed" -q |
+      "$bin" sequence-eval --scenes "disk,bar,strokes${photo:+,pan,zoom}" --methods blend,minterpolate,ddt \
+        --speed "$speed" ${photo:+--photo "$photo"} -q |
         awk -F'|' -v s="$speed" 'NR > 2 { gsub(/ /, "", $2); gsub(/ /, "", $3); v[$2, $3] = $4; sc[$2] = 1 }
-          END { n = split("disk bar strokes", order, " ");
+          END { n = split("disk bar strokes pan zoom", order, " ");
                 for (i = 1; i <= n; ++i) { k = order[i]; if (k in sc)
                   printf "| %s | %s |%s|%s|%s|\n", s, k, v[k, "blend"], v[k, "minterpolate"], v[k, "ddt"] } }'
     done
