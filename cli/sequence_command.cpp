@@ -58,7 +58,7 @@ static int run_sequence_eval(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--methods", options.methods,
                  "blend (linear in time), minterpolate (FFmpeg's motion-compensated interpolation, needs ffmpeg), "
-                 "delaunay, ddt, ddt-cubic, ddt-unsmoothed (no graduated optimization), ddt:COST")
+                 "delaunay, ddt, ddt-cubic, ddt-unsmoothed (no graduated optimization), ddt-all-flips (slow texture flipped too), ddt:COST")
       ->delimiter(',')
       ->capture_default_str();
   app.add_option("--size", size_spec, "frame size, N or WxH (default 128)");
@@ -197,6 +197,10 @@ static int run_sequence_upscale(int argc, char** argv) {
   app.add_option("--tolerance", tolerance, "a flip must lower the local cost by more than this fraction")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
+  bool flip_slow_texture = false;
+  app.add_flag("--flip-slow-texture", flip_slow_texture,
+               "let the flips re-pair fine texture that moves by a pixel or less a frame (by default it stays paired "
+               "along time, as frame blending pairs it: docs/sequences.md, \"Slow motion\")");
   app.add_option("--time-tile", options.tile_frames,
                  "input frames reconstructed at once (default: about 4 million input pixels a tile, margins "
                  "included); bounds the memory")
@@ -358,6 +362,7 @@ static int run_sequence_upscale(int argc, char** argv) {
     options.volume.render = ddt::render_by_name(render);
     options.volume.slopes = ddt::slope_limiter_by_name(slopes);
     options.volume.presmooth = {presmooth, presmooth, 0.0};
+    options.volume.keep_slow_texture = !flip_slow_texture;
     auto print = [&](const std::string& line) {
       if (!verbose) return;
       if (bar) bar->print(line);

@@ -259,6 +259,7 @@ py::dict sequence_defaults() {
   d["slopes"] = ddt::to_string(c.options.volume.slopes);
   d["presmooth"] = c.options.volume.presmooth[0];
   d["tolerance"] = c.options.volume.relative_tolerance;
+  d["flip_slow_texture"] = !c.options.volume.keep_slow_texture;
   d["time_tile"] = c.options.tile_frames;
   d["time_margin"] = c.options.margin_frames;
   d["exact_tiles"] = c.options.exact_tiles;
@@ -281,6 +282,9 @@ SequenceCall sequence_call(const py::dict& kwargs) {
   k.get("presmooth", sigma);
   if (!(sigma >= 0 && sigma <= 16)) throw ddt::Error("--presmooth must be a sigma in [0, 16] pixels");
   o.presmooth = {sigma, sigma, 0.0};
+  bool flip_slow_texture = !o.keep_slow_texture;
+  k.get("flip_slow_texture", flip_slow_texture);
+  o.keep_slow_texture = !flip_slow_texture;
   k.get("time_tile", c.options.tile_frames);
   if (c.options.tile_frames < 0) throw ddt::Error("--time-tile must be at least 1 (0: automatic)");
   k.get("time_margin", c.options.margin_frames);

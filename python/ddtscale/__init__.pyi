@@ -86,6 +86,7 @@ def upscale_sequence(
     slopes: Literal["mc4", "mc", "central", "minmod"] = ...,
     presmooth: float = ...,
     tolerance: float = ...,
+    flip_slow_texture: bool = ...,
     time_tile: int = ...,
     time_margin: int = ...,
     exact_tiles: bool = ...,

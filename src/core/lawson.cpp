@@ -181,6 +181,7 @@ class Optimizer {
     if (!facet_)
       for (int k = 0; k < plans[0].removed_count; ++k) removed_costs[k] = cell_costs_[plans[0].removed[k]];
     for (int p = 0; p < n; ++p) {
+      if (options_.kept_simplex && options_.kept_simplex(plans[p].a.data(), plans[p].a_count)) continue;
       const LocalCosts lc = facet_ ? flip_costs<D>(mesh_, z_, K_, cost_, plans[p])
                                    : flip_costs<D>(mesh_, z_, K_, cost_, plans[p], removed_costs.data(),
                                                    inserted_costs[p].data());

@@ -91,6 +91,11 @@ struct LawsonOptions {
   // After each iteration (each phase with regions): (iteration, flips in
   // it, total cost now, tracked from the gains).
   std::function<void(int, const FlipCounts&, double)> on_iteration;
+  // When set, no flip removes a simplex (its `count` vertex ids) for which
+  // this is true: a caller's knowledge the cost does not have (image
+  // sequences' slow texture, volume/slow_texture.hpp). Called from the
+  // schedule's threads: it must only read.
+  std::function<bool(const index_t* vertices, int count)> kept_simplex;
 };
 
 struct LawsonStats {

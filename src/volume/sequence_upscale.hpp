@@ -42,11 +42,13 @@ namespace ddt {
 // time come from frames a whole motion apart), and the graduated
 // optimization on frames smoothed in space by a Gaussian of sigma 1 pixel
 // (a moving edge's flips start on a gentler cost; not across time, where
-// the samples are a motion apart).
+// the samples are a motion apart), and slow fine texture kept paired
+// along time (slow_texture.hpp).
 inline VolumeUpscaleOptions sequence_volume_defaults() {
   VolumeUpscaleOptions o;
   o.render = Render::linear;
   o.presmooth = {1.0, 1.0, 0.0};
+  o.keep_slow_texture = true;
   return o;
 }
 

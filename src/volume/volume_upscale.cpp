@@ -8,6 +8,7 @@
 #include "eval/volume_resample.hpp"
 #include "image/cubic_surface.hpp"
 #include "volume/presmooth.hpp"
+#include "volume/slow_texture.hpp"
 #include "volume/volume_tiles.hpp"
 
 #include <algorithm>
@@ -67,7 +68,25 @@ struct GridProblem {
   std::array<bool, D> node_centred{};
   int channels = 1;
   std::array<double, D> presmooth{};  // the graduated optimization's sigmas, per axis
+  bool last_axis_is_time = false;     // a series: the last axis is time
 };
+
+// The flips keep the pairing along time of a sequence's slow texture
+// (VolumeUpscaleOptions::keep_slow_texture): sets lawson.kept_simplex
+// over `slow`, which it fills.
+void keep_slow_texture(const GridProblem<3>& grid, std::vector<char>& slow, core::LawsonOptions& lawson) {
+  const int W = grid.input[0], H = grid.input[1], T = grid.input[2];
+  slow = slow_texture_samples(grid.values, W, H, T, grid.channels);
+  const index_t frame = static_cast<index_t>(W) * H;
+  const index_t last_frame = frame * (T - 1);
+  lawson.kept_simplex = [&slow, frame, last_frame](const index_t* v, int count) {
+    const auto [lo, hi] = std::minmax_element(v, v + count);
+    if (count == 2 && *hi - *lo == frame) return slow[*lo] != 0;  // the edge along time
+    if (*lo / frame != *hi / frame) return false;
+    // Inside one frame: the last frame's samples go by the gap before it.
+    return std::all_of(v, v + count, [&](index_t u) { return slow[u < last_frame ? u : u - frame] != 0; });
+  };
+}
 
 // "ddt" and "delaunay" on a D-dimensional grid (D = 3: volumes, D = 4:
 // series; every axis > 1 sample): the grid's Delaunay mesh, the Lawson
@@ -106,6 +125,13 @@ std::vector<float> mesh_reconstruction(const GridProblem<D>& grid, const VolumeU
                       flips.summary().c_str(), total);
         log(line);
       };
+    std::vector<char> slow;
+    if constexpr (D == 3)
+      if (grid.last_axis_is_time && options.keep_slow_texture) {
+        keep_slow_texture(grid, slow, lawson);
+        log("slow texture: " + std::to_string(std::count(slow.begin(), slow.end(), char(1))) + " of " +
+            std::to_string(slow.size()) + " samples stay paired along time");
+      }
     if (std::any_of(grid.presmooth.begin(), grid.presmooth.end(), [](double sigma) { return sigma > 0; })) {
       const std::vector<float> smooth =
           smoothed_grid(grid.values, std::vector<int>(grid.input.begin(), grid.input.end()), grid.channels,
@@ -308,7 +334,7 @@ Volume upscale_volume(const Volume& src, const std::array<int, 4>& size, const V
     if (std::count(keep.begin(), keep.end(), true) == 4) {
       Volume out;
       out.nx = size[0], out.ny = size[1], out.nz = size[2], out.nt = size[3], out.channels = src.channels;
-      const GridProblem<4> grid{src.voxels, in, size, options.node_centred, src.channels, options.presmooth};
+      const GridProblem<4> grid{src.voxels, in, size, options.node_centred, src.channels, options.presmooth, true};
       out.voxels = mesh_reconstruction<4>(grid, options, cost, stages, local);
       if (stats) *stats = local;
       return out;
@@ -333,6 +359,7 @@ Volume upscale_volume(const Volume& src, const std::array<int, 4>& size, const V
     VolumeUpscaleOptions o = options;
     o.node_centred = node3;
     o.presmooth = presmooth3;
+    o.last_axis_is_time = keep[3];
     const Volume small = upscale_volume(reduced, out3[0], out3[1], out3[2], o, &local);
     Volume shaped = small;
     shaped.nx = small_size[0], shaped.ny = small_size[1], shaped.nz = small_size[2], shaped.nt = small_size[3];
@@ -352,7 +379,8 @@ Volume upscale_volume(const Volume& src, const std::array<int, 4>& size, const V
   out.nx = size[0], out.ny = size[1], out.nz = size[2], out.channels = src.channels;
   const GridProblem<3> grid{src.voxels, {in[0], in[1], in[2]}, {size[0], size[1], size[2]},
                             {options.node_centred[0], options.node_centred[1], options.node_centred[2]}, src.channels,
-                            {options.presmooth[0], options.presmooth[1], options.presmooth[2]}};
+                            {options.presmooth[0], options.presmooth[1], options.presmooth[2]},
+                            options.last_axis_is_time};
   out.voxels = mesh_reconstruction<3>(grid, options, cost, stages, local);
   if (stats) *stats = local;
   return out;

@@ -94,6 +94,16 @@ struct VolumeUpscaleOptions {
   // under way: on moving edges in space-time it is worth up to 11.5 dB
   // (docs/sequences.md).
   std::array<double, 4> presmooth{};
+  // Image sequences (a series whose mesh is x, y, t; not 4D series):
+  // samples where fine texture moves by at most a pixel a frame
+  // (slow_texture.hpp) stay paired along time. No flip removes the edge
+  // along time from such a sample, nor a simplex inside one frame whose
+  // vertices all are such samples. On by default for sequences
+  // (sequence_volume_defaults; docs/sequences.md, "Slow motion").
+  bool keep_slow_texture = false;
+  // Set by upscale_volume when it reduces a series to a 3D problem: that
+  // problem's last axis is time.
+  bool last_axis_is_time = false;
   // The output's samples along the mesh's last axis (z of a volume, t of a
   // series) as a window of another grid: when scale > 0, output sample j
   // there is sample first + j of the grid of that scale aligned with the

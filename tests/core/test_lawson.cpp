@@ -11,7 +11,10 @@
 #include <doctest/doctest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
+#include <atomic>
 #include <bit>
+#include <set>
 #include <cmath>
 
 using namespace ddt;
@@ -173,5 +176,54 @@ TEST_CASE_TEMPLATE("core optimize_lawson: the region schedule gives the same mes
     CHECK(st0.deferred == 0);
     CHECK(st1.cost_after < st1.cost_before);
     CHECK(st1.cost_after == doctest::Approx(st0.cost_after).epsilon(0.2));
+  }
+}
+
+TEST_CASE_TEMPLATE("core optimize_lawson: no flip removes a simplex the caller keeps; keeping none changes nothing", T,
+                   Dim<2>, Dim<3>) {
+  constexpr int D = T::value;
+  const SimplexMesh<D> start = delaunay<D>(grid_points<D>(D == 2 ? 14 : 7));
+  const std::vector<float> values = ball_values<D>(start.points, D == 2 ? 4.2 : 2.1);
+  const CostFunction& cost = find_cost("variance");
+  SimplexMesh<D> free_mesh = start;
+  const LawsonStats free_run = optimize_lawson<D>(free_mesh, values, 1, cost);
+  REQUIRE(free_run.flips.total() > 0);
+
+  // A rule that keeps nothing is the unrestricted procedure, flip for flip.
+  SimplexMesh<D> none = start;
+  LawsonOptions keep_none;
+  keep_none.kept_simplex = [](const index_t*, int) { return false; };
+  CHECK(optimize_lawson<D>(none, values, 1, cost, keep_none).flips.total() == free_run.flips.total());
+  CHECK(none.cell == free_mesh.cell);
+
+  // Every edge kept: the flips that remove an edge (2D's 2-2, 3D's 3-2,
+  // 4-4 and hull 2-2) never happen, and every edge of the start survives.
+  SimplexMesh<D> kept = start;
+  LawsonOptions keep_edges;
+  std::atomic<long long> asked{0};
+  keep_edges.kept_simplex = [&](const index_t*, int count) {
+    ++asked;
+    return count == 2;
+  };
+  const LawsonStats st = optimize_lawson<D>(kept, values, 1, cost, keep_edges);
+  CHECK(asked > 0);
+  CHECK(check_mesh(kept) == "");
+  auto edges_of = [](const SimplexMesh<D>& m) {
+    std::set<std::pair<index_t, index_t>> edges;
+    for (index_t c = 0; c < m.slot_count(); ++c) {
+      if (!m.is_live(c)) continue;
+      const auto v = m.cell_vertices(c);
+      for (int i = 0; i <= D; ++i)
+        for (int j = i + 1; j <= D; ++j) edges.insert(std::minmax(v[i], v[j]));
+    }
+    return edges;
+  };
+  const auto before = edges_of(start), after = edges_of(kept);
+  CHECK(std::includes(after.begin(), after.end(), before.begin(), before.end()));
+  if constexpr (D == 2) CHECK(st.flips.total() == 0);
+  if constexpr (D == 3) {
+    CHECK(st.flips.count(3, 2) == 0);
+    CHECK(st.flips.count(4, 4) == 0);
+    CHECK(st.flips.count(2, 2) == 0);
   }
 }
