@@ -200,7 +200,7 @@ static int run_sequence_upscale(int argc, char** argv) {
   bool flip_slow_texture = false;
   app.add_flag("--flip-slow-texture", flip_slow_texture,
                "let the flips re-pair fine texture that moves by a pixel or less a frame (by default it stays paired "
-               "along time, as frame blending pairs it: docs/sequences.md, \"Slow motion\")");
+               "along time, as frame blending pairs it: docs/sequences.md, \"Slow texture\")");
   app.add_option("--time-tile", options.tile_frames,
                  "input frames reconstructed at once (default: about 4 million input pixels a tile, margins "
                  "included); bounds the memory")

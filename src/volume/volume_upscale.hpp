@@ -99,7 +99,7 @@ struct VolumeUpscaleOptions {
   // (slow_texture.hpp) stay paired along time. No flip removes the edge
   // along time from such a sample, nor a simplex inside one frame whose
   // vertices all are such samples. On by default for sequences
-  // (sequence_volume_defaults; docs/sequences.md, "Slow motion").
+  // (sequence_volume_defaults; docs/sequences.md, "Slow texture").
   bool keep_slow_texture = false;
   // Set by upscale_volume when it reduces a series to a 3D problem: that
   // problem's last axis is time.
