@@ -63,6 +63,13 @@ grep -q "done: 1 tiles" "$work/err.txt" && ok || bad "--exact-tiles on one slab:
 if command -v idiff >/dev/null; then
   idiff -fail 0 "$work/out/o_0006.png" "$work/out/e_0006.png" >/dev/null && ok || bad "exact tiles changed frame 6"
 fi
+# Slow texture is tested by default (the verbose log says how many samples
+# stay paired along time) and not with --flip-slow-texture.
+run_ok "slow texture" "$work/in/in_%04d.png" "$work/out/slow_%04d.png" --time-scale 2 -v
+grep -qE "slow texture: [0-9]+ of [0-9]+ samples stay paired along time" "$work/err.txt" && ok ||
+  bad "the default run does not test slow texture"
+run_ok "--flip-slow-texture" "$work/in/in_%04d.png" "$work/out/flip_%04d.png" --time-scale 2 -v --flip-slow-texture
+grep -q "slow texture:" "$work/err.txt" && bad "--flip-slow-texture still tests slow texture" || ok
 run_ok "help" "$work/in/in_%04d.png" x_%04d.png --help
 grep -q -- "--time-scale" "$work/out.txt" && ok || bad "--help does not describe --time-scale"
 
