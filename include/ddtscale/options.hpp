@@ -131,15 +131,15 @@ struct UpscaleOptions {
   Progress* progress = nullptr;     // stages and work done, for a progress bar; may be null
   // Streaming (io/band_writer.hpp): when set, the output is handed to this
   // in bands of rows, top to bottom, each row once, and upscale() returns
-  // an empty image. Under the point model (and in tiles) each band is
-  // rendered on its own, so the whole output is never held; the consistent
+  // an empty image. Under the point model each band is rendered on its
+  // own, and in tiles each tile, so the whole output is never held; the consistent
   // reconstruction holds the whole output and hands out each band as soon
   // as its last, footprint-local steps are done (box model at integer
   // scales; other models and scales once the whole output is).
   // The rows are those of the returned image, bit for bit.
   std::function<void(Image rows, int first_row)> output_rows;
-  int output_band_rows = 0;         // rows per band handed out; 0: about 8 MB of floats (fewer, larger bands
-                                    // where each is rendered on its own)
+  int output_band_rows = 0;         // rows per band handed out; 0: about 8 MB of floats (in tiles, each
+                                    // tile's rows at once)
 };
 
 }  // namespace ddt

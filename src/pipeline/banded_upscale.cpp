@@ -31,21 +31,52 @@ InputStatistics statistics_of(const RowSource& source, Progress* progress) {
   return all;
 }
 
-// Per input row of a band: the mesh and the optimizer's arrays (about 250
-// bytes a pixel), the band's output rows twice (drawn, and queued for the
-// encoder), the reconstruction's vectors (about 80 bytes a channel and
-// pixel).
-double band_row_bytes(int width, int height, int channels, int out_width, int out_height) {
-  const double sy = static_cast<double>(out_height) / height;
-  return (250.0 + 80.0 * channels) * width + 2 * 4.0 * channels * out_width * sy;
+bool is_consistent(int width, int height, int out_width, int out_height, const UpscaleOptions& options) {
+  return options.model.kind != AcquisitionModel::Kind::point && out_width >= width && out_height >= height;
+}
+
+int band_margin(int width, int height, int out_width, int out_height, const UpscaleOptions& options) {
+  return planned_band_margin(optimizer_region_rows(width, height, options),
+                             is_consistent(width, height, out_width, out_height, options), options.model, width,
+                             height, out_width, out_height);
+}
+
+// A band's output rows to the receiver: whole, or in parts of
+// options.output_band_rows rows where that is set.
+void hand_out(Image rows, int first_row, const UpscaleOptions& options) {
+  const int step = options.output_band_rows;
+  if (step <= 0 || rows.height <= step) return options.output_rows(std::move(rows), first_row);
+  const std::size_t row_floats = static_cast<std::size_t>(rows.width) * rows.channels;
+  for (int first = 0; first < rows.height; first += step) {
+    Image part(rows.width, std::min(step, rows.height - first), rows.channels);
+    std::copy_n(rows.pixels.begin() + static_cast<std::ptrdiff_t>(row_floats * first), part.pixels.size(),
+                part.pixels.begin());
+    options.output_rows(std::move(part), first_row + first);
+  }
 }
 
 }  // namespace
 
-int banded_rows(int width, int height, int channels, int out_width, int out_height, double budget_bytes) {
-  const double row_bytes = band_row_bytes(width, height, channels, out_width, out_height);
-  const int rows = static_cast<int>(budget_bytes / row_bytes) / 2;  // half for the margins
-  return std::clamp(rows, 256, std::max(256, height));
+// Measured at x2 and x4 on RGB (docs/performance.md): per input pixel of
+// the band and its margins the mesh, the optimizer's arrays and the
+// reconstruction's vectors (about 100 + 20 C bytes) and the float output
+// drawn for it; per input pixel of the band's own rows that output again,
+// queued for the encoder.
+double banded_bytes(int width, int height, int channels, int out_width, int out_height, double rows, double margin) {
+  const double output_per_pixel =
+      4.0 * channels * (static_cast<double>(out_width) / width) * (static_cast<double>(out_height) / height);
+  return width * ((100.0 + 20.0 * channels + output_per_pixel) * std::min<double>(height, rows + 2 * margin) +
+                  output_per_pixel * rows);
+}
+
+int banded_rows(int width, int height, int channels, int out_width, int out_height, const UpscaleOptions& options,
+                double budget_bytes) {
+  const int margin = band_margin(width, height, out_width, out_height, options);
+  // band_bytes is linear in the rows: solve it for the budget.
+  const double fixed = banded_bytes(width, height, channels, out_width, out_height, 0, margin);
+  const double per_row = banded_bytes(width, height, channels, out_width, out_height, 1, margin) - fixed;
+  const double rows = (budget_bytes - fixed) / per_row;
+  return std::clamp(static_cast<int>(std::min<double>(rows, height)), 256, std::max(256, height));
 }
 
 UpscaleStats upscale_banded(const RowSource& source, int out_width, int out_height, const UpscaleOptions& options,
@@ -57,8 +88,7 @@ UpscaleStats upscale_banded(const RowSource& source, int out_width, int out_heig
   if (options.optimizer != Optimizer::lawson || region_rows <= 0)
     throw Error("an image read by bands needs Lawson's region schedule (--optimizer lawson; --region-rows on a "
                 "small image)");
-  const bool consistent =
-      options.model.kind != AcquisitionModel::Kind::point && out_width >= W && out_height >= H;
+  const bool consistent = is_consistent(W, H, out_width, out_height, options);
   Progress* progress = options.progress;
 
   // Each band runs without the caller's progress: the bar counts rows done.
@@ -67,10 +97,10 @@ UpscaleStats upscale_banded(const RowSource& source, int out_width, int out_heig
   band_options.output_rows = nullptr;  // each band's rows come back whole, and are handed out here
   band_options.tile_rows = -1;
   band_rows = std::clamp(band_rows, 1, H);
-  int margin = planned_band_margin(region_rows, consistent, options.model, W, H, out_width, out_height);
+  int margin = band_margin(W, H, out_width, out_height, options);
   check_memory_fits("a band of " + std::to_string(band_rows) + " rows with " + std::to_string(margin) +
                         " rows of margin each side",
-                    band_row_bytes(W, H, C, out_width, out_height) * std::min<double>(H, band_rows + 2.0 * margin));
+                    banded_bytes(W, H, C, out_width, out_height, band_rows, margin));
   const InputStatistics statistics = consistent ? statistics_of(source, progress) : InputStatistics{};
   if (progress) progress->begin("bands", H);
   UpscaleStats total;
@@ -112,7 +142,7 @@ UpscaleStats upscale_banded(const RowSource& source, int out_width, int out_heig
                                      std::to_string(margin) + " rows");
         continue;
       }
-      options.output_rows(std::move(out), output_row_of(first, H, out_height));
+      hand_out(std::move(out), output_row_of(first, H, out_height), options);
       add_band_stats(total, part, i == 0);
       break;
     }

@@ -30,9 +30,12 @@ struct RowSource {
   std::function<void(int first, int end, float* rows)> read;
 };
 
-// The input rows per band for a memory budget of `budget_bytes` (at least
-// a few hundred rows: a band's margins are a few hundred).
-int banded_rows(int width, int height, int channels, int out_width, int out_height, double budget_bytes);
+// The bytes a band of `rows` input rows with `margin` rows each side holds.
+double banded_bytes(int width, int height, int channels, int out_width, int out_height, double rows, double margin);
+// The input rows per band that fit, with their margins, a memory budget of
+// `budget_bytes` (at least 256: a band's margins are a few hundred rows).
+int banded_rows(int width, int height, int channels, int out_width, int out_height, const UpscaleOptions& options,
+                double budget_bytes);
 
 UpscaleStats upscale_banded(const RowSource& source, int out_width, int out_height, const UpscaleOptions& options,
                             int band_rows);

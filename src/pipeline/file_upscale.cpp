@@ -122,7 +122,7 @@ FileUpscaleResult upscale_file(FileUpscaleJob job) {
     writer = stream_into(job, result, options, header.channels, header.format, header.alpha_channel, metadata);
     const int band_rows = options.tile_rows > 0 ? options.tile_rows
                                                 : banded_rows(header.width, header.height, header.channels,
-                                                              result.width, result.height,
+                                                              result.width, result.height, options,
                                                               0.5 * double(available_memory()));
     log_line(options, "read by bands of " + std::to_string(band_rows) + " rows: " + job.input + ", " +
                           std::to_string(header.width) + "x" + std::to_string(header.height) + "x" +

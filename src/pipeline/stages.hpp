@@ -1,9 +1,8 @@
 #pragma once
 // ddt::StageRunner — the glue every pipeline (images, the mesh view,
 // scattered points, volumes) shares around its stages (triangulate,
-// optimize, render, ...): each stage timed, its verbose lines prefixed with
-// the pipeline's label (e.g. "tile 2/5 "), the progress told which stage
-// runs, and the optimizer's summary and the stage seconds gathered into the
+// optimize, render, ...): each stage timed, its verbose lines sent on,
+// the progress told which stage runs, and the optimizer's summary and the stage seconds gathered into the
 // statistics parts of ddtscale/stats.hpp (StageSeconds, OptimizerSummary),
 // of which the pipelines' own stats are made.
 //
@@ -34,28 +33,22 @@ class StageRunner {
  public:
   using Log = std::function<void(const std::string&)>;
 
-  // log: verbose lines (may be empty); progress: may be null; label: the
-  // prefix of every line and stage name.
-  explicit StageRunner(Log log, Progress* progress = nullptr, std::string label = {})
-      : log_(std::move(log)), progress_(progress), label_(std::move(label)) {}
+  // log: verbose lines (may be empty); progress: may be null.
+  explicit StageRunner(Log log, Progress* progress = nullptr) : log_(std::move(log)), progress_(progress) {}
 
   bool logging() const { return static_cast<bool>(log_); }
   void log(const std::string& line) const {
-    if (log_) log_(label_ + line);
+    if (log_) log_(line);
   }
-  // The labelled log as a function, empty when there is none (for the
-  // optimizers' own lines).
-  Log logger() const {
-    if (!log_) return {};
-    return [this](const std::string& line) { log(line); };
-  }
+  // The log as a function, empty when there is none (for the optimizers'
+  // own lines).
+  Log logger() const { return log_; }
   Progress* progress() const { return progress_; }
-  const std::string& label() const { return label_; }
 
   // Tells the progress that stage `name` starts, with `total` units of
   // work expected (0: unknown).
   void begin(const std::string& name, long long total = 0) const {
-    if (progress_) progress_->begin(label_ + name, total);
+    if (progress_) progress_->begin(name, total);
   }
 
   // Runs work() and returns its wall-clock seconds.
@@ -69,7 +62,6 @@ class StageRunner {
  private:
   Log log_;
   Progress* progress_;
-  std::string label_;
 };
 
 }  // namespace ddt

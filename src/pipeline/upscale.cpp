@@ -7,6 +7,7 @@
 #include "util/error.hpp"
 #include "io/image_io.hpp"
 #include "image/image_mesh.hpp"
+#include "pipeline/banded_upscale.hpp"
 #include "pipeline/drive_channels.hpp"
 #include "pipeline/stages.hpp"
 #include "image/optimizer_choice.hpp"
@@ -147,11 +148,11 @@ Mesh2 band_mesh(const std::vector<float>& values, int W, int C, const Band& band
 // image_height rows; the band lies within them.
 LawsonStats run_band(const Image& src, int src_top, int image_height, const Band& band, int out_width, int out_height,
                      const UpscaleOptions& options, const CostFunction& cost, const DriveChannels& drive,
-                     long long region_triangles, int region_rows, const std::string& label,
+                     long long region_triangles, int region_rows,
                      const std::function<Image&()>& output, UpscaleStats& local,
                      int margin = std::numeric_limits<int>::max(), const InputStatistics* statistics = nullptr,
                      int* margin_needed = nullptr) {
-  const StageRunner stages(options.log, options.progress, label);
+  const StageRunner stages(options.log, options.progress);
   const int W = src.width, C = src.channels;
   // The whole image, all its output rows (a tile whose margins reach both
   // borders is still a band: it renders only its own rows).
@@ -332,30 +333,13 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
   if (can_tile && options.tile_rows > 0) {
     tile_rows = options.tile_rows;
   } else if (can_tile && options.tile_rows == 0) {
-    // Bytes per input pixel while a band is processed: positions 16,
-    // triangles and twins 48, optimizer flags 6 and edge terms 48, drive
-    // values, cubic gradients, the band's own copy of its samples.
-    const double per_pixel = 16 + 48 + 6 + 48 + (drive.identity ? 0 : 4.0 * drive.K) +
-                             (options.render == Render::cubic ? 8.0 * C : 0) + 4.0 * C;
-    // The output is held whole unless streamed (then a few bands of it).
-    const double held_output = options.output_rows ? 0.0 : static_cast<double>(out_width) * out_height;
-    double fixed = 4.0 * C * (static_cast<double>(W) * H + held_output);
-    // The consistent reconstruction, untiled: a triangle owner per output
-    // pixel; per input pixel the mesh's operator of about 8 nonzeros (8
-    // bytes each, twice that while assembled) and about ten double vectors
-    // (sized when a second operator was solved on the grid: it errs high).
-    if (consistent)
-      fixed += 4.0 * out_width * out_height + (256.0 + 80.0 * C) * W * H;
     const double budget = options.max_memory > 0 ? double(options.max_memory) : 0.5 * double(physical_memory());
-    const double whole = fixed + per_pixel * W * H;
-    if (whole > budget) {
-      // A tile of the consistent reconstruction also holds its own output
-      // rows and the reconstruction's vectors; two tiles at least.
-      const double tiled_fixed = 4.0 * C * (static_cast<double>(W) * H + held_output);
-      const double row_bytes =
-          per_pixel * W + (consistent ? (4.0 * C + 4.0) * out_width * out_height / H + (256.0 + 80.0 * C) * W : 0.0);
-      const double rows = (budget - tiled_fixed) / row_bytes;
-      tile_rows = std::min((H + 1) / 2, std::max(256, static_cast<int>(rows * 0.8) - 512));
+    const double input = 4.0 * C * W * H;
+    if (input + banded_bytes(W, H, C, out_width, out_height, H, 0) > budget) {
+      // The bands beside the input and the output held whole (unless streamed).
+      const double held_output = options.output_rows ? 0.0 : 4.0 * C * out_width * out_height;
+      tile_rows =
+          std::min((H + 1) / 2, banded_rows(W, H, C, out_width, out_height, options, budget - input - held_output));
     }
   }
   // Bands reproduce the whole image's result only under the region
@@ -369,10 +353,6 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
     if (options.log) options.log("consistency: skipped, the output is smaller than the input on an axis (point model)");
   }
   const long long region_triangles = region_rows > 0 ? region_rows * cells_row : -1;
-  // Tiles of the consistent reconstruction decide as the whole input does.
-  InputStatistics statistics;
-  if (tile_rows > 0 && consistent) statistics = input_statistics(src);
-
   // Streamed, every tile hands its rows out itself; the untiled consistent
   // reconstruction holds the whole output and hands out each band of it
   // once its last steps are done (make_consistent).
@@ -387,48 +367,26 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
   };
   if (tile_rows == 0) {
     const LawsonStats ls = run_band(src, 0, H, Band{0, H, 0, out_height}, out_width, out_height, band_options, cost, drive,
-                                    region_triangles, region_rows, "", output, local);
+                                    region_triangles, region_rows, output, local);
     take_optimizer_stats(ls, local);
     // Streamed, the consistent reconstruction has handed its rows out.
     if (streamed) out = Image();
   } else {
-    // Bands of tile_rows rows with `margin` rows of overlap each side. In a
-    // band, phase k of the optimizer reproduces the whole image's phase k
-    // except within (k + 1) half-regions of the band's cut edges (a phase
-    // reaches half a region across its seams); the margin covers that for
-    // the phases the band needed, with slack for the triangles' height, or
-    // the band is redone with a wider one. So every rendered row sees the
-    // whole image's mesh (docs/performance.md).
-    const int tiles = (H + tile_rows - 1) / tile_rows;
-    // The consistent reconstruction's reach, planned (it is checked on each
-    // tile's own mesh).
-    int margin = planned_band_margin(region_rows, consistent, options.model, W, H, out_width, out_height);
-    local.tiles = tiles;
-    for (int i = 0; i < tiles; ++i) {
-      const int y0 = i * tile_rows, y1 = std::min(H, y0 + tile_rows);
-      for (;;) {
-        Band band{std::max(0, y0 - margin), std::min(H, y1 + margin), first_output_row(y0, H, out_height),
-                  first_output_row(y1, H, out_height)};
-        UpscaleStats part;
-        const std::string label = "tile " + std::to_string(i + 1) + "/" + std::to_string(tiles) + " ";
-        // The rows of margin on a cut side; none cut: any margin is enough.
-        constexpr int uncut = std::numeric_limits<int>::max();
-        const int cut_margin = std::min(band.top > 0 ? y0 - band.top : uncut, band.bottom < H ? band.bottom - y1 : uncut);
-        int needed = 0;
-        const LawsonStats ls = run_band(src, 0, H, band, out_width, out_height, band_options, cost, drive, region_triangles,
-                                        region_rows, label, output, part, cut_margin, &statistics, &needed);
-        if (needed > cut_margin) {
-          margin = widened_band_margin(margin, needed, region_rows);
-          if (options.log) options.log(label + "margin too narrow for " + std::to_string(ls.iterations) +
-                                       " phases: again with " + std::to_string(margin) + " rows");
-          continue;
-        }
-        take_optimizer_stats(ls, part);
-        add_band_stats(local, part, i == 0);
-        break;
-      }
-    }
-    local.tile_margin = margin;
+    // Tiles are the banded reader's bands, read from memory: each band's
+    // rows into the whole output, or handed out (banded_upscale.hpp).
+    const std::size_t row_floats = static_cast<std::size_t>(W) * C;
+    const RowSource source{W, H, C, [&src, row_floats](int first, int end, float* rows) {
+                             std::copy(src.pixels.begin() + static_cast<std::ptrdiff_t>(row_floats * first),
+                                       src.pixels.begin() + static_cast<std::ptrdiff_t>(row_floats * end), rows);
+                           }};
+    UpscaleOptions tile_options = band_options;
+    if (!streamed)
+      tile_options.output_rows = [&output](Image rows, int first_row) {
+        Image& whole = output();
+        std::copy(rows.pixels.begin(), rows.pixels.end(),
+                  whole.pixels.begin() + static_cast<std::ptrdiff_t>(rows.pixels.size() / rows.height) * first_row);
+      };
+    local = upscale_banded(source, out_width, out_height, tile_options, tile_rows);
   }
   if (stats) *stats = local;
   output();  // the allocation is waited for even where no band drew into it
@@ -510,7 +468,7 @@ Image upscale_rows(const Image& rows, int top, int image_height, int first, int 
   if (!consistent) band_options.model.kind = AcquisitionModel::Kind::point;
   int needed = 0;
   const LawsonStats ls = run_band(rows, top, image_height, band, out_width, out_height, band_options, cost, drive,
-                                  region_triangles, region_rows, "", [&]() -> Image& { return out; }, local,
+                                  region_triangles, region_rows, [&]() -> Image& { return out; }, local,
                                   cut_margin, statistics, &needed);
   take_optimizer_stats(ls, local);
   if (margin_needed) *margin_needed = needed;

@@ -2,6 +2,7 @@
 // the rasterizer: a tiled run must equal the untiled run bit for bit.
 
 #include "util/error.hpp"
+#include "image/image_mesh.hpp"
 #include "image/rasterizer.hpp"
 #include "eval/synthetic_scenes.hpp"
 #include "test_support.hpp"
@@ -231,4 +232,25 @@ TEST_CASE("upscale_banded: an image read and enlarged by bands is upscale()'s, r
   CHECK_THROWS_WITH_AS(upscale_banded(broken, 2 * W, 2 * H, opt, 100), "cannot read 'x.png': damaged", Error);
   opt.optimizer = Optimizer::anneal;
   CHECK_THROWS_WITH_AS(upscale_banded(broken, 2 * W, 2 * H, opt, 100), doctest::Contains("region schedule"), Error);
+}
+
+TEST_CASE("banded_rows: the most rows whose band fits the budget, margins included") {
+  const UpscaleOptions opt;  // the box model: margins of a few hundred rows
+  const int W = 8192, H = 30000, C = 3;
+  const int margin = planned_band_margin(optimizer_region_rows(W, H, opt), true, opt.model, W, H, 2 * W, 2 * H);
+  CHECK(margin > 100);
+  double last = 0;
+  for (double gigabytes : {2.0, 4.0, 12.0}) {
+    CAPTURE(gigabytes);
+    const double budget = gigabytes * 1e9;
+    const int rows = banded_rows(W, H, C, 2 * W, 2 * H, opt, budget);
+    CHECK(rows > last);
+    CHECK(banded_bytes(W, H, C, 2 * W, 2 * H, rows, margin) <= budget);
+    CHECK(banded_bytes(W, H, C, 2 * W, 2 * H, rows + 2, margin) > budget);
+    last = rows;
+  }
+  // More output per input pixel, fewer rows; a budget below a band's margins, the smallest band.
+  CHECK(banded_rows(W, H, C, 4 * W, 4 * H, opt, 4e9) < banded_rows(W, H, C, 2 * W, 2 * H, opt, 4e9));
+  CHECK(banded_rows(W, H, C, 2 * W, 2 * H, opt, 1) == 256);
+  CHECK(banded_rows(W, 300, C, 2 * W, 600, opt, 1e12) == 300);
 }
