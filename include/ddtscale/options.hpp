@@ -132,8 +132,8 @@ struct UpscaleOptions {
   // Streaming (io/band_writer.hpp): when set, the output is handed to this
   // in bands of rows, top to bottom, each row once, and upscale() returns
   // an empty image. Under the point model each band is rendered on its
-  // own, and in tiles each tile, so the whole output is never held; the consistent
-  // reconstruction holds the whole output and hands out each band as soon
+  // own (in tiles, each tile), so the whole output is never held; the
+  // consistent reconstruction holds the whole output and hands out each band as soon
   // as its last, footprint-local steps are done (box model at integer
   // scales; other models and scales once the whole output is).
   // The rows are those of the returned image, bit for bit.

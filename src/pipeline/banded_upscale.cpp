@@ -72,7 +72,7 @@ double banded_bytes(int width, int height, int channels, int out_width, int out_
 int banded_rows(int width, int height, int channels, int out_width, int out_height, const UpscaleOptions& options,
                 double budget_bytes) {
   const int margin = band_margin(width, height, out_width, out_height, options);
-  // band_bytes is linear in the rows: solve it for the budget.
+  // banded_bytes is linear in the rows: solve it for the budget.
   const double fixed = banded_bytes(width, height, channels, out_width, out_height, 0, margin);
   const double per_row = banded_bytes(width, height, channels, out_width, out_height, 1, margin) - fixed;
   const double rows = (budget_bytes - fixed) / per_row;

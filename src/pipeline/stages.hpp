@@ -1,9 +1,9 @@
 #pragma once
 // ddt::StageRunner — the glue every pipeline (images, the mesh view,
 // scattered points, volumes) shares around its stages (triangulate,
-// optimize, render, ...): each stage timed, its verbose lines sent on,
-// the progress told which stage runs, and the optimizer's summary and the stage seconds gathered into the
-// statistics parts of ddtscale/stats.hpp (StageSeconds, OptimizerSummary),
+// optimize, render, ...): each stage timed, its verbose lines sent on, the
+// progress told which stage runs, and the optimizer's summary and the
+// stage seconds gathered into the statistics parts of ddtscale/stats.hpp (StageSeconds, OptimizerSummary),
 // of which the pipelines' own stats are made.
 //
 // The lines themselves stay with each pipeline (they name what it counts);
