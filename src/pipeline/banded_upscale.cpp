@@ -31,13 +31,9 @@ InputStatistics statistics_of(const RowSource& source, Progress* progress) {
   return all;
 }
 
-bool is_consistent(int width, int height, int out_width, int out_height, const UpscaleOptions& options) {
-  return options.model.kind != AcquisitionModel::Kind::point && out_width >= width && out_height >= height;
-}
-
 int band_margin(int width, int height, int out_width, int out_height, const UpscaleOptions& options) {
   return planned_band_margin(optimizer_region_rows(width, height, options),
-                             is_consistent(width, height, out_width, out_height, options), options.model, width,
+                             is_consistent(width, height, out_width, out_height, options.model), options.model, width,
                              height, out_width, out_height);
 }
 
@@ -88,7 +84,7 @@ UpscaleStats upscale_banded(const RowSource& source, int out_width, int out_heig
   if (options.optimizer != Optimizer::lawson || region_rows <= 0)
     throw Error("an image read by bands needs Lawson's region schedule (--optimizer lawson; --region-rows on a "
                 "small image)");
-  const bool consistent = is_consistent(W, H, out_width, out_height, options);
+  const bool consistent = is_consistent(W, H, out_width, out_height, options.model);
   Progress* progress = options.progress;
 
   // Each band runs without the caller's progress: the bar counts rows done.

@@ -328,7 +328,7 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
   // An output with fewer pixels than the input on an axis cannot reproduce
   // it: a reduction is the plain interpolation under every model.
   const bool reduced = out_width < W || out_height < H;
-  const bool consistent = options.model.kind != AcquisitionModel::Kind::point && !reduced;
+  const bool consistent = is_consistent(W, H, out_width, out_height, options.model);
   const bool can_tile = W >= 2 && H >= 2 && options.optimizer == Optimizer::lawson;
   if (can_tile && options.tile_rows > 0) {
     tile_rows = options.tile_rows;
@@ -374,17 +374,16 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
   } else {
     // Tiles are the banded reader's bands, read from memory: each band's
     // rows into the whole output, or handed out (banded_upscale.hpp).
-    const std::size_t row_floats = static_cast<std::size_t>(W) * C;
-    const RowSource source{W, H, C, [&src, row_floats](int first, int end, float* rows) {
-                             std::copy(src.pixels.begin() + static_cast<std::ptrdiff_t>(row_floats * first),
-                                       src.pixels.begin() + static_cast<std::ptrdiff_t>(row_floats * end), rows);
+    const RowSource source{W, H, C, [&src](int first, int end, float* rows) {
+                             std::copy(src.pixels.begin() + static_cast<std::ptrdiff_t>(src.index(0, first)),
+                                       src.pixels.begin() + static_cast<std::ptrdiff_t>(src.index(0, end)), rows);
                            }};
     UpscaleOptions tile_options = band_options;
     if (!streamed)
       tile_options.output_rows = [&output](Image rows, int first_row) {
         Image& whole = output();
         std::copy(rows.pixels.begin(), rows.pixels.end(),
-                  whole.pixels.begin() + static_cast<std::ptrdiff_t>(rows.pixels.size() / rows.height) * first_row);
+                  whole.pixels.begin() + static_cast<std::ptrdiff_t>(whole.index(0, first_row)));
       };
     local = upscale_banded(source, out_width, out_height, tile_options, tile_rows);
   }
@@ -430,6 +429,10 @@ int planned_band_margin(int region_rows, bool consistent, const AcquisitionModel
                      : 0);
 }
 
+bool is_consistent(int width, int height, int out_width, int out_height, const AcquisitionModel& model) {
+  return model.kind != AcquisitionModel::Kind::point && out_width >= width && out_height >= height;
+}
+
 int widened_band_margin(int margin, int needed, int region_rows) {
   return std::max(margin + region_rows, needed + region_rows);
 }
@@ -445,8 +448,7 @@ Image upscale_rows(const Image& rows, int top, int image_height, int first, int 
                 "given rows " + std::to_string(top) + ".." + std::to_string(bottom) + " of an image of " +
                 std::to_string(image_height));
   const bool whole = top == 0 && bottom == image_height;
-  const bool consistent = options.model.kind != AcquisitionModel::Kind::point && out_width >= rows.width &&
-                          out_height >= image_height;
+  const bool consistent = is_consistent(rows.width, image_height, out_width, out_height, options.model);
   if (!whole && consistent && !statistics)
     throw Error("upscale_rows: a band of the consistent reconstruction needs the whole input's statistics");
   const CostFunction& cost = checked_cost(options);

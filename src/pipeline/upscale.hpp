@@ -66,7 +66,11 @@ int output_row_of(int y, int in_height, int out_height);
 // Rows of margin a band needs on a cut side for `phases` phases of the
 // region schedule (docs/performance.md).
 int band_margin_needed(int phases, int region_rows);
-// The margin both tilers (upscale()'s tiles, upscale_banded) start with: two
+// Whether an image of width x height enlarged to out_width x out_height
+// gets the consistent reconstruction: a model other than point, and no
+// axis reduced (a reduction cannot reproduce the input).
+bool is_consistent(int width, int height, int out_width, int out_height, const AcquisitionModel& model);
+// The margin the bands (upscale_banded, also upscale()'s tiles) start with: two
 // regions and the consistent reconstruction's planned reach (when
 // `consistent`); and the wider one a band is redone with when its mesh
 // needed `needed` rows.
