@@ -183,7 +183,7 @@ int run_upscale(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  ddt::tune_allocator();
+  ddt::tune_allocator(ddt::AllocatorUse::own_process);
   if (argc >= 2 && std::strcmp(argv[1], "eval") == 0) return run_eval_command(argc - 1, argv + 1);
   if (argc >= 2 && std::strcmp(argv[1], "grid") == 0) return run_grid_command(argc - 1, argv + 1);
   if (argc >= 2 && std::strcmp(argv[1], "scene") == 0) return run_scene_command(argc - 1, argv + 1);

@@ -1,15 +1,20 @@
 #include "util/allocator_tuning.hpp"
 
+#include <cstddef>  // any C library header: it is what defines __GLIBC__
+
 #if defined(__GLIBC__)
 #include <malloc.h>
 #endif
 
 namespace ddt {
 
-void tune_allocator() {
+void tune_allocator(AllocatorUse use) {
 #if defined(__GLIBC__)
   mallopt(M_MMAP_THRESHOLD, 32 << 20);
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
+  mallopt(M_MMAP_MAX, use == AllocatorUse::own_process ? 0 : 65536);  // 65536: glibc's default
+#else
+  (void)use;
 #endif
 }
 

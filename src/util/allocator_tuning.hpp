@@ -1,14 +1,23 @@
 #pragma once
-// glibc's malloc tuned for the work's allocation pattern: bands of output
-// rows (a few MB each, allocated and freed by the hundred) are served again
-// from freed heap memory instead of fresh pages, which cost a page fault
-// each (docs/performance.md). Process-wide: the command line calls it at
-// start, the Python module when imported.
+// glibc's malloc tuned for the work's allocation pattern: buffers of output
+// rows, residuals and meshes, allocated and freed by the band, are served
+// again from freed heap memory instead of fresh pages, which cost a page
+// fault each (docs/performance.md, "Memory pages"). Process-wide.
 
 namespace ddt {
 
-// M_MMAP_THRESHOLD 32 MB and M_TRIM_THRESHOLD 1 GB; without effect where
-// the C library is not glibc.
-void tune_allocator();
+enum class AllocatorUse {
+  // A process that is ours alone (the command line): every buffer comes
+  // from the heap, and freed memory stays with the process for the next.
+  own_process,
+  // A process shared with other work (the Python module): buffers over
+  // 32 MB are mapped apart and returned to the system when freed.
+  shared_process,
+};
+
+// Both: M_MMAP_THRESHOLD 32 MB and M_TRIM_THRESHOLD 1 GB; M_MMAP_MAX 0 for
+// own_process (no buffer mapped apart), glibc's default otherwise. Without
+// effect where the C library is not glibc.
+void tune_allocator(AllocatorUse use);
 
 }  // namespace ddt
