@@ -1,6 +1,7 @@
 #include "batch.hpp"
 #include "whole_number.hpp"
 
+#include "util/text.hpp"
 #include "util/progress.hpp"
 
 #include <CLI/CLI.hpp>
@@ -28,6 +29,7 @@
 extern char** environ;
 
 namespace fs = std::filesystem;
+using ddt::lower;
 
 namespace {
 
@@ -35,11 +37,6 @@ struct Job {
   std::string input, output;
   std::string error;  // set when the file fails before it runs
 };
-
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
 
 // The extensions OpenImageIO reads, lower case without the dot.
 const std::set<std::string>& image_extensions() {

@@ -13,6 +13,7 @@
 #include "scattered/point_table.hpp"
 #include "util/size_limits.hpp"
 #include "pipeline/upscale.hpp"
+#include "util/text.hpp"
 #include "util/timing.hpp"
 
 #include <CLI/CLI.hpp>
@@ -28,12 +29,8 @@
 
 namespace {
 
+using ddt::lower;
 using ddt::seconds_since;
-
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
 
 // Messages from libraries may span lines; the command promises one line on stderr.
 // A number, or nan (for no-data values); throws ddt::Error naming the option.

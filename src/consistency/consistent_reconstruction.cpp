@@ -158,7 +158,6 @@ void make_consistent(Image& out, const Mesh2& mesh, const Image& src, const Cons
       residual_of(out, src, acquisition, rows, rest);
       grid.solve(rest, delta, C, rows.top, rows.end);
       grid.add_to(out, delta, -1, -1, rows.out_origin, rows.top);
-      ++local.halo_passes;
     }
     for (int first = rows.out_origin; first < rows.out_end; first += band_out_rows)
       hand_out(first, std::min(rows.out_end, first + band_out_rows));

@@ -82,7 +82,6 @@ struct ConsistencyStats {
   double residual_after = 0;    // the same for the solved delta, at input resolution
   long long halo_footprints = 0;  // footprints and channels whose overshoot was limited
   long long step_edge_footprints = 0;  // footprints drawn as one straight edge
-  int halo_passes = 0;            // 1 when limiting needed a final grid correction
   double seconds_operator = 0, seconds_solve = 0, seconds_render = 0;
 };
 

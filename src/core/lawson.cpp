@@ -401,12 +401,6 @@ FlipCounts& FlipCounts::operator+=(const FlipCounts& other) {
   return *this;
 }
 
-FlipCounts FlipCounts::operator-(const FlipCounts& other) const {
-  FlipCounts out = *this;
-  for (std::size_t k = 0; k < by_kind.size(); ++k) out.by_kind[k] -= other.by_kind[k];
-  return out;
-}
-
 std::string FlipCounts::summary() const {
   std::vector<std::pair<int, int>> kinds;
   for (int b = 2; b <= dimension; ++b) kinds.emplace_back(b, dimension + 2 - b);

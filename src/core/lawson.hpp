@@ -72,7 +72,6 @@ struct FlipCounts {
   long long count(int removed, int inserted) const { return by_kind[removed * side + inserted]; }
   long long total() const;
   FlipCounts& operator+=(const FlipCounts& other);
-  FlipCounts operator-(const FlipCounts& other) const;
   // "2-3: 12, 3-2: 4, 4-4: 100, 2-2: 0": the dimension's usual kinds (the
   // non-degenerate ones; in 3D also the lattice's 4-4 and hull 2-2), then
   // any other kind applied.

@@ -1,6 +1,7 @@
 #include "eval/classic_resize.hpp"
 
 #include "util/error.hpp"
+#include "util/text.hpp"
 #include "io/image_io.hpp"
 
 #include <OpenImageIO/imagebuf.h>
@@ -16,9 +17,7 @@ Image classic_resize(const Image& src, int out_w, int out_h, const std::string& 
   else if (method == "bicubic") filter = "catmull-rom";
   else if (method == "lanczos") filter = "lanczos3";
   else if (method != "nearest") {
-    std::string names;
-    for (const auto& m : classic_methods()) names += (names.empty() ? "" : ", ") + m;
-    throw Error("unknown resize method '" + method + "' (valid: " + names + ")");
+    throw Error("unknown resize method '" + method + "' (valid: " + joined(classic_methods()) + ")");
   }
   if (src.empty() || src.width <= 0 || src.height <= 0 || src.channels <= 0)
     throw Error("classic_resize: the source image is empty");

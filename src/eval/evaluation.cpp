@@ -5,6 +5,7 @@
 #include "core/costs.hpp"
 #include "eval/edge_sharpness.hpp"
 #include "util/error.hpp"
+#include "util/text.hpp"
 #include "io/image_io.hpp"
 #include "eval/matlab_resize.hpp"
 #include "eval/metrics.hpp"
@@ -27,12 +28,6 @@ namespace fs = std::filesystem;
 
 namespace ddt {
 namespace {
-
-std::string join(const std::vector<std::string>& items) {
-  std::string s;
-  for (const auto& item : items) s += (s.empty() ? "" : ", ") + item;
-  return s;
-}
 
 EvalMethod ddt_method(const std::string& name, const UpscaleOptions& options) {
   find_cost(options.cost);  // throws, naming the valid costs, before any work
@@ -207,7 +202,7 @@ std::vector<EvalMethod> make_eval_methods(const std::vector<std::string>& names,
     } else if (is_peer(name)) {
       add({name, [name](const Image& lr, int w, int h) { return peer_resize(lr, w, h, name); }});
     } else {
-      throw Error("unknown method '" + name + "' (valid: " + join(eval_method_names()) + ")");
+      throw Error("unknown method '" + name + "' (valid: " + joined(eval_method_names()) + ")");
     }
   }
   return methods;

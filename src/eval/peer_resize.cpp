@@ -1,6 +1,7 @@
 #include "eval/peer_resize.hpp"
 
 #include "util/error.hpp"
+#include "util/text.hpp"
 
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
@@ -89,9 +90,7 @@ std::vector<std::string> peer_methods() { return {"opencv-lanczos4", "opencv-cub
 Image peer_resize(const Image& src, int out_w, int out_h, const std::string& method) {
   const std::vector<std::string> names = peer_methods();
   if (std::find(names.begin(), names.end(), method) == names.end()) {
-    std::string valid;
-    for (const auto& m : names) valid += (valid.empty() ? "" : ", ") + m;
-    throw Error("unknown peer method '" + method + "' (valid: " + valid + ")");
+    throw Error("unknown peer method '" + method + "' (valid: " + joined(names) + ")");
   }
   if (src.empty() || src.width <= 0 || src.height <= 0 || src.channels <= 0)
     throw Error("peer_resize: the source image is empty");

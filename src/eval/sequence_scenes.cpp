@@ -74,11 +74,11 @@ Weights box_weights(double origin, double footprint, int count, int photo_size, 
 
 const std::vector<SequenceScene>& sequence_scenes() {
   static const std::vector<SequenceScene> scenes = {
-      {"disk", "bright disk (radius 0.2) on dark, moving right and down at (1, 0.5) px a frame", true, false},
-      {"bar", "dark bar 0.06 wide, 0.7 long, turning about the centre at 1 degree a frame", true, false},
-      {"strokes", "dark 'A' and 'S' strokes 0.05 wide moving left and down at (0.75, 0.5) px a frame", true, false},
-      {"pan", "a photograph panned at (0.5, 0.25) px a frame, 2x2 photograph pixels a pixel", false, true},
-      {"zoom", "a photograph zoomed in about its centre by 0.5 % a frame", false, true},
+      {"disk", "bright disk (radius 0.2) on dark, moving right and down at (1, 0.5) px a frame", false},
+      {"bar", "dark bar 0.06 wide, 0.7 long, turning about the centre at 1 degree a frame", false},
+      {"strokes", "dark 'A' and 'S' strokes 0.05 wide moving left and down at (0.75, 0.5) px a frame", false},
+      {"pan", "a photograph panned at (0.5, 0.25) px a frame, 2x2 photograph pixels a pixel", true},
+      {"zoom", "a photograph zoomed in about its centre by 0.5 % a frame", true},
   };
   return scenes;
 }

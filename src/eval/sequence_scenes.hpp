@@ -17,7 +17,7 @@
 //            sub-pixel position
 //   zoom     the same photograph, zoomed in about its centre by 0.5 % a
 //            frame (footprints from 2 photograph pixels down)
-// The first three move edges (moving_edges); pan and zoom need a
+// The first three move edges; pan and zoom need a
 // photograph (any image; RGB or grey), of at least twice the frame size
 // plus the motion.
 //
@@ -34,7 +34,6 @@ namespace ddt {
 struct SequenceScene {
   std::string name;
   std::string description;
-  bool moving_edges = false;  // disk, bar, strokes
   bool photo = false;         // pan, zoom: rendered from a photograph
 };
 

@@ -106,17 +106,6 @@ Image isosurface_view(const Volume& v, const IsoView& view, int size) {
   return out;
 }
 
-const char* view_name(VolumeView view) {
-  switch (view) {
-    case VolumeView::slice_xy: return "middle x-y slice";
-    case VolumeView::slice_xz: return "middle x-z slice";
-    case VolumeView::slice_yz: return "middle y-z slice";
-    case VolumeView::mip_z: return "maximum-intensity projection along z";
-    case VolumeView::isosurface: return "shaded isosurface";
-  }
-  return "?";
-}
-
 Image volume_view(const Volume& v, VolumeView view, const IsoView& iso) {
   switch (view) {
     case VolumeView::isosurface: return isosurface_view(v, iso, iso.size > 0 ? iso.size : std::max({v.nx, v.ny, v.nz}));

@@ -18,7 +18,6 @@
 namespace ddt {
 
 enum class VolumeView { slice_xy, slice_xz, slice_yz, mip_z, isosurface };
-const char* view_name(VolumeView view);  // "middle x-y slice", ...
 
 // A shaded isosurface (the view of the paper's figures), drawn by a small
 // ray caster written here, not an established renderer: orthographic rays

@@ -1,6 +1,7 @@
 #include "eval/volume_resample.hpp"
 
 #include "util/error.hpp"
+#include "util/teem_error.hpp"
 
 #include <teem/nrrd.h>
 #include <tbb/parallel_for.h>
@@ -52,24 +53,6 @@ Volume trilinear(const Volume& src, int nx, int ny, int nz) {
   });
   return out;
 }
-
-std::string teem_error() {
-  char* err = biffGetDone(NRRD);
-  std::string s = err ? err : "unknown Teem error";
-  free(err);
-  while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
-  const auto nl = s.rfind('\n');
-  return nl == std::string::npos ? s : s.substr(nl + 1);
-}
-
-}  // namespace
-
-const std::vector<std::string>& volume_methods() {
-  static const std::vector<std::string> names = {"trilinear", "tricubic"};
-  return names;
-}
-
-namespace {
 
 const NrrdKernel* teem_kernel(const std::string& name) {
   if (name == "tent") return nrrdKernelTent;
@@ -138,11 +121,6 @@ Volume teem_resample(const Volume& src, int nx, int ny, int nz, const std::strin
   if (nx < 1 || ny < 1 || nz < 1) throw Error("resample: the output size must be at least 1x1x1");
   const NrrdKernel* k = teem_kernel(kernel);
   return teem_resample_axes(src, {nx, ny, nz, 1}, {k, k, k, k}, {});
-}
-
-const std::vector<std::string>& volume_series_methods() {
-  static const std::vector<std::string> names = {"quadrilinear", "tricubic-linear"};
-  return names;
 }
 
 Volume classic_resize_axes(const Volume& src, const std::array<int, 4>& size, const std::string& method,

@@ -14,7 +14,7 @@
 // the samples' hull the index is clamped (Teem: "bleed" boundary), the
 // same nearest-hull-point rule DDT's rasterizer uses.
 //
-// Inputs:  src non-empty; nx, ny, nz >= 1; method one of volume_methods()
+// Inputs:  src non-empty; nx, ny, nz >= 1; method "trilinear" or "tricubic"
 // Output:  nx x ny x nz volume (not clamped to the input's range)
 // Errors:  ddt::Error for an unknown method (listing the valid ones), an
 //          empty source, a bad size, or a Teem failure.
@@ -26,8 +26,6 @@
 #include <vector>
 
 namespace ddt {
-
-const std::vector<std::string>& volume_methods();  // {"trilinear", "tricubic"}
 
 Volume classic_resize_volume(const Volume& src, int nx, int ny, int nz, const std::string& method);
 
@@ -53,7 +51,6 @@ struct AxisWindow {
   int axis = 3;
   double scale = 0, first = 0;
 };
-const std::vector<std::string>& volume_series_methods();  // {"quadrilinear", "tricubic-linear"}
 Volume classic_resize_axes(const Volume& src, const std::array<int, 4>& size, const std::string& method,
                            const std::array<bool, 4>& node_centred, const AxisWindow& window = {});
 

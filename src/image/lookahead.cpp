@@ -44,7 +44,6 @@ LookaheadStats optimize_lookahead(Mesh2& mesh, const std::vector<float>& values,
     long long kept = 0;
     for (index_t e = 0; e < mesh.half_edge_count(); ++e) {
       if (mesh.opp[e] == no_edge || mesh.opp[e] < e || !is_flippable(mesh, e)) continue;
-      ++stats.pair_tests;
       const FlipCosts first = flip_costs(mesh, values, K, cost, e);
       const index_t f = mesh.opp[e];
       const FlipUndo undo(mesh, e);

@@ -37,7 +37,6 @@ struct LookaheadOptions {
 struct LookaheadStats {
   int sweeps = 0;              // pair sweeps made
   long long pairs = 0;         // flip pairs kept (2 flips each)
-  long long pair_tests = 0;    // first flips tried
   long long lawson_flips = 0;  // single flips over all Lawson passes
   LawsonStats first_lawson;    // the first pass: plain Lawson's result
   double cost_before = 0, cost_after = 0;

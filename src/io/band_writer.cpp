@@ -192,7 +192,6 @@ ImageBandWriter::~ImageBandWriter() {
 }
 
 bool ImageBandWriter::streaming() const { return state_->streaming(); }
-int ImageBandWriter::rows_written() const { return state_->next_row; }
 
 void ImageBandWriter::write(Image rows, int first_row) {
   State& s = *state_;

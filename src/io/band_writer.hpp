@@ -49,7 +49,6 @@ class ImageBandWriter {
   void finish();
 
   bool streaming() const;
-  int rows_written() const;
 
  private:
   struct State;

@@ -1,6 +1,7 @@
 #include "io/encode_options.hpp"
 
 #include "util/error.hpp"
+#include "util/text.hpp"
 
 #include <png.h>
 
@@ -23,12 +24,6 @@ constexpr NamedValue png_filters[] = {{"none", PNG_FILTER_NONE}, {"sub", PNG_FIL
 const std::vector<std::string> exr_compressions = {"none", "rle",   "zips", "zip",  "piz",
                                                    "pxr24", "b44", "b44a", "dwaa", "dwab"};
 const std::vector<std::string> tiff_compressions = {"none", "lzw", "zip", "packbits", "jpeg"};
-
-std::string joined(const std::vector<std::string>& names) {
-  std::string s;
-  for (const auto& n : names) s += (s.empty() ? "" : ", ") + n;
-  return s;
-}
 
 // "NAME" or "NAME:NUMBER": the name, and the number (or `absent`).
 // Throws when the number is not a whole number within [lo, hi].

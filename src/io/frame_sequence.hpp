@@ -68,7 +68,6 @@ class FrameSequenceWriter {
                       const std::vector<std::string>& inputs);
   void write(int number, const Image& frame);
   void commit();
-  int written() const { return static_cast<int>(names_.size()); }
 
  private:
   FramePattern pattern_;

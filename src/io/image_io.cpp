@@ -160,7 +160,6 @@ std::unique_ptr<OIIO::ImageInput> open_checked(const std::string& path, const Im
   }
   file.format = sample_format_of(spec.format);
   file.alpha_channel = spec.alpha_channel;
-  if (spec.alpha_channel >= 0) file.alpha_name = spec.channelnames[spec.alpha_channel];
   return in;
 }
 

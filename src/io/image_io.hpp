@@ -28,7 +28,6 @@ enum class SampleFormat { uint8, uint16, half, float32 };
 struct ImageFile {
   Image image;                             // float samples as stored (uint scaled to 0..1)
   SampleFormat format = SampleFormat::uint8;
-  std::string alpha_name;                  // empty when there is no alpha channel
   int alpha_channel = -1;                  // index of alpha, or -1
   // What the file says beside its pixels that a photographer expects kept:
   // the ICC profile, EXIF (the orientation included: the pixels are read as

@@ -77,7 +77,6 @@ class StagedOutput {
 
   // The final path (symlinks resolved) and its directory.
   const std::filesystem::path& target() const { return target_; }
-  const std::filesystem::path& target_directory() const { return directory_; }
 
   // A new file `name` (no '/') in the private directory, created
   // exclusively, open for reading and writing. Writes through write_at()

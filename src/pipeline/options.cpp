@@ -1,6 +1,7 @@
 #include "ddtscale/options.hpp"
 
 #include "util/error.hpp"
+#include "util/text.hpp"
 
 #include <array>
 #include <utility>
@@ -15,9 +16,7 @@ Enum by_name(const std::array<std::pair<const char*, Enum>, N>& table, const std
              const std::vector<std::string>& order) {
   for (const auto& [n, value] : table)
     if (name == n) return value;
-  std::string valid;
-  for (const std::string& n : order) valid += (valid.empty() ? "" : ", ") + n;
-  throw Error("unknown " + std::string(what) + " '" + name + "' (valid: " + valid + ")");
+  throw Error("unknown " + std::string(what) + " '" + name + "' (valid: " + joined(order) + ")");
 }
 
 template <class Enum, std::size_t N>

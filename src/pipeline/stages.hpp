@@ -51,14 +51,6 @@ class StageRunner {
     if (progress_) progress_->begin(name, total);
   }
 
-  // Runs work() and returns its wall-clock seconds.
-  template <class Work>
-  double timed(Work&& work) const {
-    const Clock::time_point start = Clock::now();
-    std::forward<Work>(work)();
-    return seconds_since(start);
-  }
-
  private:
   Log log_;
   Progress* progress_;

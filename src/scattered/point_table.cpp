@@ -17,6 +17,7 @@
 
 #include "util/error.hpp"
 #include "io/safe_file.hpp"
+#include "util/text.hpp"
 
 #include <csv.h>
 
@@ -32,11 +33,6 @@
 
 namespace ddt {
 namespace {
-
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
 
 bool is_blank(char c) { return c == ' ' || c == '\t'; }
 
