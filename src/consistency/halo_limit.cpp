@@ -49,29 +49,67 @@ std::pair<float, float> halo_bounds(const Image& src, int x, int y, int c, float
   return {lo, hi};
 }
 
+namespace {
+
+// The sum of clamp(v + t, lo, hi) and how many values it leaves unclamped.
+// Without branches (which value is clamped is unpredictable): the same
+// sums, as lo <= hi.
+double clamped_sum(const std::vector<float>& o, double t, double lo, double hi, int& free) {
+  double m = 0;
+  free = 0;
+  for (float v : o) {
+    const double x = v + t;
+    m += std::min(std::max(x, lo), hi);
+    free += (x > lo) & (x < hi);
+  }
+  return m;
+}
+
+}  // namespace
+
 double mean_keeping_shift(const std::vector<float>& o, double mean, double lo, double hi) {
   if (o.empty()) return 0;
+  const double n = static_cast<double>(o.size()), target = mean * n;
   const auto [omin, omax] = std::minmax_element(o.begin(), o.end());
-  double a = std::isfinite(lo) ? lo - *omax : -(*omax - *omin) - 1;
-  double b = std::isfinite(hi) ? hi - *omin : (*omax - *omin) + 1;
+  // Shifted by a, every value is at most the mean, and so is every clamped
+  // one (mean >= lo); by b every one at least: the shift lies in [a, b].
+  double a = mean - *omax, b = mean - *omin;
+  // Two Newton steps from 0 on the unclamped values' count: most
+  // footprints end here.
   double t = 0;
-  for (int it = 0; it < 60; ++it) {
-    double m = 0;
+  for (int step = 0; step < 3; ++step) {
     int free = 0;
-    // Without branches (which value is clamped is unpredictable): the same
-    // sums, as lo <= hi.
-    for (float v : o) {
-      const double x = v + t;
-      m += std::min(std::max(x, lo), hi);
-      free += (x > lo) & (x < hi);
-    }
-    const double gap = mean - m / o.size();
-    if (std::abs(gap) < 1e-9) break;
+    const double gap = (target - clamped_sum(o, t, lo, hi, free)) / n;
+    if (std::abs(gap) < 1e-9) return t;
     (gap > 0 ? a : b) = t;
-    const double next = free > 0 ? t + gap * o.size() / free : 0.5 * (a + b);
-    t = next > a && next < b ? next : 0.5 * (a + b);
+    const double next = free > 0 ? t + gap * n / free : NAN;
+    if (step == 2 || !(next > a && next < b)) break;
+    t = next;
   }
-  return t;
+  // The sum is linear in t between the breakpoints lo - v and hi - v:
+  // bisect over the sorted breakpoints inside (a, b) for the piece that
+  // holds the target, then interpolate on it.
+  std::vector<double> points;
+  points.reserve(2 * o.size() + 2);
+  points.push_back(a);
+  for (float v : o)
+    for (const double bound : {lo, hi})
+      if (bound - v > a && bound - v < b) points.push_back(bound - v);
+  points.push_back(b);
+  std::sort(points.begin(), points.end());
+  std::size_t i = 0, j = points.size() - 1;  // sum(points[i]) <= target <= sum(points[j])
+  int unused = 0;
+  double mi = clamped_sum(o, points[i], lo, hi, unused), mj = clamped_sum(o, points[j], lo, hi, unused);
+  while (j - i > 1) {
+    const std::size_t k = (i + j) / 2;
+    const double mk = clamped_sum(o, points[k], lo, hi, unused);
+    if (mk < target) {
+      i = k, mi = mk;
+    } else {
+      j = k, mj = mk;
+    }
+  }
+  return mj > mi ? points[i] + (target - mi) / (mj - mi) * (points[j] - points[i]) : points[j];
 }
 
 HaloLimiter::HaloLimiter(const Image& src, const InputStatistics& statistics, const RowBand& band)

@@ -27,9 +27,10 @@ namespace ddt {
 std::pair<float, float> halo_bounds(const Image& src, int x, int y, int c, float image_min, float image_max);
 
 // The common shift t for which the mean of clamp(v + t, lo, hi) over
-// `values` is `mean` (it grows with t; safeguarded Newton steps on its
-// slope, the share of unclamped values). `mean` must lie in [lo, hi],
-// lo <= hi; lo or hi may be infinite.
+// `values` is `mean` (it grows with t, piecewise linearly: two Newton
+// steps, then a bisection over the breakpoints and the exact value on the
+// piece found). `mean` must lie in [lo, hi], lo <= hi; lo or hi may be
+// infinite.
 double mean_keeping_shift(const std::vector<float>& values, double mean, double lo, double hi);
 
 // Clamps the footprints of `out` (a consistent output of `src`) as above,
