@@ -15,9 +15,10 @@ enum class AllocatorUse {
   shared_process,
 };
 
-// Both: M_MMAP_THRESHOLD 32 MB and M_TRIM_THRESHOLD 1 GB; M_MMAP_MAX 0 for
-// own_process (no buffer mapped apart), glibc's default otherwise. Without
-// effect where the C library is not glibc.
+// own_process: M_MMAP_MAX 0 (no buffer mapped apart) and no trimming of
+// the heap (a band's buffers stay for the next); shared_process:
+// M_MMAP_THRESHOLD 32 MB and M_TRIM_THRESHOLD 1 GB. Without effect where
+// the C library is not glibc.
 void tune_allocator(AllocatorUse use);
 
 }  // namespace ddt
