@@ -183,11 +183,14 @@ int run_upscale(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  ddt::tune_allocator(ddt::AllocatorUse::own_process);
+  // Volumes and sequences allocate tiles of changing sizes: under the image
+  // command's setting their heap grew with each tile (docs/performance.md).
+  ddt::tune_allocator(ddt::AllocatorUse::general);
   if (argc >= 2 && std::strcmp(argv[1], "eval") == 0) return run_eval_command(argc - 1, argv + 1);
   if (argc >= 2 && std::strcmp(argv[1], "grid") == 0) return run_grid_command(argc - 1, argv + 1);
   if (argc >= 2 && std::strcmp(argv[1], "scene") == 0) return run_scene_command(argc - 1, argv + 1);
   if (is_volume_command(argc, argv)) return run_volume_command(argc, argv);
   if (is_sequence_command(argc, argv)) return run_sequence_command(argc, argv);
+  ddt::tune_allocator(ddt::AllocatorUse::equal_bands);
   return run_upscale(argc, argv);
 }

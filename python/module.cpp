@@ -420,9 +420,9 @@ py::array grid(const py::array& points, const py::array& values, const py::objec
 
 PYBIND11_MODULE(_ddtscale, m) {
   m.doc() = "The compiled half of ddtscale; use the functions of the ddtscale package.";
-  // Freed bands reused, as the command line does, but large buffers still
-  // returned to the system: the interpreter's process is shared.
-  ddt::tune_allocator(ddt::AllocatorUse::shared_process);
+  // Freed bands reused, but large buffers still returned to the system:
+  // the interpreter's process is shared.
+  ddt::tune_allocator(ddt::AllocatorUse::general);
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);

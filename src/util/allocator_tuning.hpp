@@ -2,23 +2,24 @@
 // glibc's malloc tuned for the work's allocation pattern: buffers of output
 // rows, residuals and meshes, allocated and freed by the band, are served
 // again from freed heap memory instead of fresh pages, which cost a page
-// fault each (docs/performance.md, "Memory pages"). Process-wide.
+// fault each (docs/performance.md, "Freed memory reused"). Process-wide.
 
 namespace ddt {
 
 enum class AllocatorUse {
-  // A process that is ours alone (the command line): every buffer comes
-  // from the heap, and freed memory stays with the process for the next.
-  own_process,
-  // A process shared with other work (the Python module): buffers over
-  // 32 MB are mapped apart and returned to the system when freed.
-  shared_process,
+  // Bands of one size, one after another, in a process of their own (the
+  // image command): every buffer comes from the heap, and the heap is never
+  // trimmed, so each band reuses the pages of the one before.
+  equal_bands,
+  // Anything else (volumes, sequences, the Python module): blocks under
+  // 32 MB from the heap, kept up to 1 GB free; larger ones mapped apart and
+  // returned when freed, so buffers of changing sizes do not pile up.
+  general,
 };
 
-// own_process: M_MMAP_MAX 0 (no buffer mapped apart) and no trimming of
-// the heap (a band's buffers stay for the next); shared_process:
-// M_MMAP_THRESHOLD 32 MB and M_TRIM_THRESHOLD 1 GB. Without effect where
-// the C library is not glibc.
+// equal_bands: M_MMAP_MAX 0, M_TRIM_THRESHOLD -1; general:
+// M_MMAP_THRESHOLD 32 MB, M_TRIM_THRESHOLD 1 GB, M_MMAP_MAX glibc's
+// default. Without effect where the C library is not glibc.
 void tune_allocator(AllocatorUse use);
 
 }  // namespace ddt

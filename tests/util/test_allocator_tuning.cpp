@@ -22,14 +22,14 @@ bool mapped_apart(std::size_t bytes) {
 
 }  // namespace
 
-// The shared case first: a block freed on the heap would serve the next.
-TEST_CASE("tune_allocator: the command line's process keeps every buffer on the heap, a shared one maps large ones") {
-  ddt::tune_allocator(ddt::AllocatorUse::shared_process);
+// The general case first: a block freed on the heap would serve the next.
+TEST_CASE("tune_allocator: equal bands keep every buffer on the heap, the general setting maps large ones") {
+  ddt::tune_allocator(ddt::AllocatorUse::general);
   CHECK_FALSE(mapped_apart(std::size_t(16) << 20));  // under the 32 MB threshold (glibc's own starts at 128 KB)
   CHECK(mapped_apart(std::size_t(64) << 20));
-  ddt::tune_allocator(ddt::AllocatorUse::own_process);
+  ddt::tune_allocator(ddt::AllocatorUse::equal_bands);
   CHECK_FALSE(mapped_apart(std::size_t(16) << 20));
   CHECK_FALSE(mapped_apart(std::size_t(64) << 20));
-  ddt::tune_allocator(ddt::AllocatorUse::shared_process);  // as the other tests found it
+  ddt::tune_allocator(ddt::AllocatorUse::general);  // as the other tests found it
 }
 #endif
