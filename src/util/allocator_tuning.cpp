@@ -10,10 +10,10 @@ namespace ddt {
 
 void tune_allocator(AllocatorUse use) {
 #if defined(__GLIBC__)
-  const bool own = use == AllocatorUse::equal_bands;
+  const bool equal_bands = use == AllocatorUse::equal_bands;
   mallopt(M_MMAP_THRESHOLD, 32 << 20);
-  mallopt(M_TRIM_THRESHOLD, own ? -1 : 1 << 30);  // -1: never
-  mallopt(M_MMAP_MAX, own ? 0 : 65536);           // 65536: glibc's default
+  mallopt(M_TRIM_THRESHOLD, equal_bands ? -1 : 1 << 30);  // -1: never
+  mallopt(M_MMAP_MAX, equal_bands ? 0 : 65536);           // 65536: glibc's default
 #else
   (void)use;
 #endif
