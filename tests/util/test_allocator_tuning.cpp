@@ -4,7 +4,8 @@
 
 #include <cstdlib>
 
-#if defined(__GLIBC__)
+// glibc's malloc only: AddressSanitizer replaces it (and ignores mallopt).
+#if defined(__GLIBC__) && !defined(__SANITIZE_ADDRESS__)
 #include <malloc.h>
 
 namespace {
