@@ -11,7 +11,6 @@
 
 #include "ddtscale/stats.hpp"
 #include "util/progress.hpp"
-#include "util/timing.hpp"
 
 #include <functional>
 #include <string>

@@ -15,6 +15,7 @@
 #include "image/rasterizer.hpp"
 #include "util/prefaulted_image.hpp"
 #include "util/size_limits.hpp"
+#include "util/timing.hpp"
 #include "image/triangulation.hpp"
 
 #include <tbb/parallel_for.h>

@@ -7,6 +7,7 @@
 #include "image/rasterizer.hpp"
 #include "image/triangulation.hpp"
 #include "pipeline/drive_channels.hpp"
+#include "util/timing.hpp"
 
 #include <algorithm>
 #include <cmath>

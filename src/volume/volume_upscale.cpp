@@ -10,6 +10,7 @@
 #include "volume/presmooth.hpp"
 #include "volume/slow_texture.hpp"
 #include "volume/volume_tiles.hpp"
+#include "util/timing.hpp"
 
 #include <algorithm>
 #include <cmath>
