@@ -201,6 +201,12 @@ static int run_sequence_upscale(int argc, char** argv) {
   app.add_flag("--flip-slow-texture", flip_slow_texture,
                "let the flips re-pair fine texture that moves by a pixel or less a frame (by default it stays paired "
                "along time, as frame blending pairs it: docs/sequences.md, \"Slow texture\")");
+  std::string motion = "auto";
+  app.add_option("--motion", motion,
+                 "initial mesh: auto (sheared along the frames' dominant motion, a pan or one object moving, when "
+                 "they have one of more than a pixel a frame), off (the pixel lattice's), or DX,DY (sheared by that "
+                 "many pixels a frame); docs/sequences.md, \"Dominant motion\"")
+      ->capture_default_str();
   app.add_option("--time-tile", options.tile_frames,
                  "input frames reconstructed at once (default: about 4 million input pixels a tile, margins "
                  "included); bounds the memory")
@@ -250,6 +256,7 @@ static int run_sequence_upscale(int argc, char** argv) {
 
   try {
     ddt::find_cost(cost);
+    ddt::set_motion(options, motion);
     // Frames come from a pattern or a video file (FFmpeg), and go to either.
     const bool video_in = !ddt::is_frame_pattern(input) && ddt::is_video_path(input);
     const bool video_out = !ddt::is_frame_pattern(output) && ddt::is_video_path(output);
@@ -337,6 +344,18 @@ static int run_sequence_upscale(int argc, char** argv) {
     if (video_in) {
       size_job(in_video.width, in_video.height, 3);
       reader = std::make_unique<ddt::VideoReader>(input, in_video);
+      if (options.shear_dominant_motion) {
+        // The motion's frames from a reader of their own: the main one
+        // only goes forward, from the first frame.
+        auto motion_reader = std::make_shared<ddt::VideoReader>(input, in_video);
+        auto next = std::make_shared<int>(0);
+        options.motion_frames = [motion_reader, next](int k) {
+          if (k < *next) throw ddt::Error("a video's frames are read in order");
+          ddt::Image frame;
+          for (; *next <= k; ++*next) frame = motion_reader->next();
+          return frame;
+        };
+      }
       first.image = reader->next();
       first.format = ddt::SampleFormat::uint16;
       first.alpha_channel = -1;

@@ -260,6 +260,7 @@ py::dict sequence_defaults() {
   d["presmooth"] = c.options.volume.presmooth[0];
   d["tolerance"] = c.options.volume.relative_tolerance;
   d["flip_slow_texture"] = !c.options.volume.keep_slow_texture;
+  d["motion"] = ddt::motion_text(c.options);
   d["time_tile"] = c.options.tile_frames;
   d["time_margin"] = c.options.margin_frames;
   d["exact_tiles"] = c.options.exact_tiles;
@@ -285,6 +286,9 @@ SequenceCall sequence_call(const py::dict& kwargs) {
   bool flip_slow_texture = !o.keep_slow_texture;
   k.get("flip_slow_texture", flip_slow_texture);
   o.keep_slow_texture = !flip_slow_texture;
+  std::string motion = ddt::motion_text(c.options);
+  k.get("motion", motion);
+  ddt::set_motion(c.options, motion);
   k.get("time_tile", c.options.tile_frames);
   if (c.options.tile_frames < 0) throw ddt::Error("--time-tile must be at least 1 (0: automatic)");
   k.get("time_margin", c.options.margin_frames);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 namespace ddt {
@@ -12,6 +13,30 @@ int sequence_output_frames(int frames, double time_scale) { return tiled_output_
 
 int sequence_tile_frames(int width, int height, int margin_frames) {
   return default_tile_slices(static_cast<long long>(width) * height, margin_frames);
+}
+
+void set_motion(SequenceUpscaleOptions& options, const std::string& text) {
+  if (text == "auto" || text == "off") {
+    options.shear_dominant_motion = text == "auto";
+    options.volume.time_shear = {0, 0};
+    return;
+  }
+  double dx = 0, dy = 0;
+  char rest = 0;
+  if (std::sscanf(text.c_str(), "%lf,%lf%c", &dx, &dy, &rest) != 2 || !std::isfinite(dx) || !std::isfinite(dy) ||
+      std::abs(dx) > 1000 || std::abs(dy) > 1000)
+    throw Error("--motion must be auto, off or DX,DY (pixels a frame, at most 1000), not '" + text + "'");
+  options.shear_dominant_motion = false;
+  options.volume.time_shear = {dx, dy};
+}
+
+std::string motion_text(const SequenceUpscaleOptions& options) {
+  if (options.shear_dominant_motion) return "auto";
+  const auto [dx, dy] = options.volume.time_shear;
+  if (dx == 0 && dy == 0) return "off";
+  char text[80];
+  std::snprintf(text, sizeof text, "%g,%g", dx, dy);
+  return text;
 }
 
 void upscale_sequence(int frames, int width, int height, int channels, const std::function<Image(int)>& read,
@@ -28,6 +53,18 @@ void upscale_sequence(int frames, int width, int height, int channels, const std
   // untiled volume); any other is given to the tiler.
   if (time_scale != std::floor(time_scale)) tiling.axis_scale = time_scale;
   VolumeUpscaleOptions volume = options.volume;
+  DominantMotion motion;
+  if (options.shear_dominant_motion && volume.method == VolumeMethod::ddt && frames > 1) {
+    motion = dominant_motion(frames, options.motion_frames ? options.motion_frames : read);
+    volume.time_shear = {motion.dx, motion.dy};
+    if (volume.log) {
+      char line[300];
+      std::snprintf(line, sizeof line, "motion: %d of %d frame pairs agree on (%.2f, %.2f) px a frame: %s",
+                    motion.agreeing, motion.pairs, motion.median_dx, motion.median_dy,
+                    motion.found ? "the mesh starts sheared along it" : "no dominant motion, the lattice's mesh");
+      volume.log(line);
+    }
+  }
   volume.node_centred[3] = true;  // frames are instants
   volume.presmooth[3] = 0;
   auto read_step = [&](int k, float* samples) {
@@ -45,6 +82,7 @@ void upscale_sequence(int frames, int width, int height, int channels, const std
   };
   upscale_in_tiles({width, height, 1, frames}, {out_width, out_height, 1, sequence_output_frames(frames, time_scale)},
                    channels, volume, tiling, read_step, write_step, stats);
+  if (stats) stats->motion = motion;
 }
 
 }  // namespace ddt

@@ -30,10 +30,12 @@
 
 #include "util/image.hpp"
 #include "util/progress.hpp"
+#include "volume/dominant_motion.hpp"
 #include "volume/volume_tiles.hpp"
 #include "volume/volume_upscale.hpp"
 
 #include <functional>
+#include <string>
 
 namespace ddt {
 
@@ -58,10 +60,27 @@ struct SequenceUpscaleOptions {
   int tile_frames = 0;          // input frames per tile; 0: sequence_tile_frames()
   int margin_frames = 4;        // extra input frames reconstructed on either side of a tile (at least)
   bool exact_tiles = false;     // widen the margins until the tiles equal the untiled result
+  // Shear the initial mesh along the dominant motion of the whole sequence
+  // (dominant_motion.hpp), when it has one; volume.time_shear is then set
+  // from it. Off: volume.time_shear as given (0, 0: the lattice's mesh).
+  bool shear_dominant_motion = true;
+  // Where dominant_motion reads its frames, when not `read` (a source that
+  // `read` cannot rewind, such as a video: a second reader). Frames are
+  // asked for in increasing order.
+  std::function<Image(int)> motion_frames;
   Progress* progress = nullptr;  // "enlarge" stage, in output frames
 };
 
-using SequenceUpscaleStats = VolumeTilingStats;
+struct SequenceUpscaleStats : VolumeTilingStats {
+  DominantMotion motion;  // what shear_dominant_motion found
+};
+
+// The command line's and the Python module's --motion: "auto" (shear
+// along the dominant motion, the default), "off" (the lattice's mesh), or
+// "DX,DY" (shear by that many pixels a frame). Errors: ddt::Error naming
+// the three forms.
+void set_motion(SequenceUpscaleOptions& options, const std::string& text);
+std::string motion_text(const SequenceUpscaleOptions& options);
 
 // The default tile: about 2^22 input samples (mesh and output of a few GB
 // at most) including its margins, at least one frame beyond them.

@@ -3,6 +3,7 @@
 #include "util/error.hpp"
 #include "util/image.hpp"
 #include "core/grid_delaunay.hpp"
+#include "core/delaunay.hpp"
 #include "core/scan_convert.hpp"
 #include "pipeline/upscale.hpp"
 #include "eval/volume_resample.hpp"
@@ -89,6 +90,23 @@ void keep_slow_texture(const GridProblem<3>& grid, std::vector<char>& slow, core
   };
 }
 
+// The Delaunay triangulation of the grid's samples sheared by (dx, dy) a
+// frame (x - dx t, y - dy t, t), over the unsheared positions: a shear is
+// affine with determinant 1, so every cell keeps its orientation and the
+// cells still tile the samples' hull (the box).
+core::SimplexMesh<3> sheared_delaunay(const std::array<int, 3>& size, const std::array<double, 2>& shear) {
+  std::vector<core::Vec<3>> points;
+  points.reserve(static_cast<std::size_t>(size[0]) * size[1] * size[2]);
+  for (int t = 0; t < size[2]; ++t)
+    for (int y = 0; y < size[1]; ++y)
+      for (int x = 0; x < size[0]; ++x) points.push_back({x + 0.5, y + 0.5, t + 0.5});
+  std::vector<core::Vec<3>> sheared = points;
+  for (core::Vec<3>& p : sheared) p[0] -= shear[0] * p[2], p[1] -= shear[1] * p[2];
+  core::SimplexMesh<3> mesh = core::delaunay<3>(sheared);
+  mesh.points = std::move(points);
+  return mesh;
+}
+
 // "ddt" and "delaunay" on a D-dimensional grid (D = 3: volumes, D = 4:
 // series; every axis > 1 sample): the grid's Delaunay mesh, the Lawson
 // procedure in slabs along the last axis, the scan conversion.
@@ -104,6 +122,11 @@ std::vector<float> mesh_reconstruction(const GridProblem<D>& grid, const VolumeU
   };
   auto t0 = Clock::now();
   core::SimplexMesh<D> mesh = core::grid_delaunay<D>(grid.input);  // = CGAL's Delaunay of the sample points
+  if constexpr (D == 3)
+    if (grid.last_axis_is_time && (options.time_shear[0] != 0 || options.time_shear[1] != 0)) {
+      mesh = sheared_delaunay(grid.input, options.time_shear);
+      local.seconds_triangulate = seconds_since(t0);
+    }
   local.seconds_triangulate = seconds_since(t0);
   local.tetrahedra = mesh.cell_count();
   log(std::string(D == 3 ? "tetrahedralize: " : "triangulate: ") + std::to_string(mesh.points.size()) +

@@ -101,6 +101,14 @@ struct VolumeUpscaleOptions {
   // vertices all are such samples. On by default for sequences
   // (sequence_volume_defaults; docs/sequences.md, "Slow texture").
   bool keep_slow_texture = false;
+  // Series whose mesh is x, y, t (image sequences): when not (0, 0), the
+  // initial mesh is the Delaunay triangulation of the samples sheared by
+  // this translation, pixels a frame along x and y (x - dx t, y - dy t, t),
+  // instead of that of the lattice, which pairs each sample with the same
+  // pixel in the next frame. upscale_sequence sets it to the frames'
+  // dominant motion (dominant_motion.hpp; docs/sequences.md, "Dominant
+  // motion").
+  std::array<double, 2> time_shear{};
   // Set by upscale_volume when it reduces a series to a 3D problem: that
   // problem's last axis is time.
   bool last_axis_is_time = false;

@@ -1,0 +1,62 @@
+#pragma once
+// ddt::dominant_motion — the translation that carries most of an image
+// sequence from one frame to the next (a camera pan, one object moving over
+// a flat background), found by matching whole frames.
+//
+// Why: the space-time mesh starts as the Delaunay triangulation of the
+// sample lattice, which pairs every sample with the same pixel in the next
+// frame. The flips then tilt it towards the motion, but greedily: a pairing
+// several pixels along the motion needs long slanted tetrahedra that no
+// sequence of improving flips reaches, so a rim that slides along itself
+// is paired with its nearest point in the next frame instead of the point
+// the motion carries it to (docs/sequences.md, "Dominant motion"). Starting
+// from the Delaunay triangulation of the samples sheared by the dominant
+// motion (volume_upscale.cpp) puts those tetrahedra in the initial mesh;
+// the flips then work from there, for whatever does not move with it.
+//
+// Per pair of consecutive frames (at most max_pairs pairs, evenly spaced):
+// the mean absolute difference over the overlap of frame t at (x, y) and
+// frame t + 1 at (x + dx, y + dy), channels averaged, is minimized over
+// whole shifts, coarse to fine (2x2 box pyramid down to about 32 pixels,
+// an exhaustive search of +-4 there, +-1 at each finer level), then
+// refined to a fraction of a pixel by the vertex of the quadratic through
+// the mean squared differences at the 3x3 shifts around it. A pair is explained when its best difference is at most
+// max_residual_share of the difference without a shift (identical frames:
+// the zero shift, explained).
+//
+// The result is the median shift of the pairs, kept when at least
+// min_agreeing_share of the pairs are explained and within 0.5 pixel of it
+// and it moves more than min_shift pixels on some axis (slower motion is
+// what the lattice already pairs well: slow_texture.hpp); else zero. It is
+// rounded to 1/8 pixel, so that tiles that see the same motion shear alike.
+//
+// frame(k) gives input frame k (0-based; any channels); the frames of the
+// pairs are asked for in increasing order, each once, so a source that
+// only reads forward (a video) serves them.
+// Errors: ddt::Error on frames of different sizes; what frame() throws.
+
+#include "util/image.hpp"
+
+#include <functional>
+
+namespace ddt {
+
+struct DominantMotionOptions {
+  int max_pairs = 16;
+  double max_residual_share = 0.5;
+  double min_agreeing_share = 0.75;
+  double min_shift = 1.0;  // pixels a frame
+};
+
+struct DominantMotion {
+  double dx = 0, dy = 0;  // pixels a frame (0, 0 when none was found)
+  bool found = false;
+  double median_dx = 0, median_dy = 0;  // the pairs' median, kept or not
+  int pairs = 0;                        // frame pairs matched
+  int agreeing = 0;                     // of them explained by the median
+};
+
+DominantMotion dominant_motion(int frames, const std::function<Image(int)>& frame,
+                               const DominantMotionOptions& options = {});
+
+}  // namespace ddt

@@ -1,0 +1,180 @@
+#include "eval/sequence_scenes.hpp"
+#include "util/error.hpp"
+#include "volume/dominant_motion.hpp"
+#include "volume/sequence_upscale.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <random>
+
+using namespace ddt;
+
+namespace {
+
+// A smooth random texture (a sum of sinusoids) seen through a window that
+// moves by (vx, vy) pixels a frame: frame t at (x, y) is texture(x - vx t,
+// y - vy t), so the content moves by +(vx, vy).
+std::vector<Image> moving_texture(int frames, int size, double vx, double vy, int channels = 3) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0, 1);
+  struct Wave {
+    double kx, ky, phase, amplitude;
+  };
+  std::vector<Wave> waves;
+  for (int i = 0; i < 24; ++i)
+    waves.push_back({(u(rng) - 0.5) * 1.6, (u(rng) - 0.5) * 1.6, u(rng) * 6.283, 0.02 + 0.03 * u(rng)});
+  std::vector<Image> out;
+  for (int t = 0; t < frames; ++t) {
+    Image f(size, size, channels);
+    for (int y = 0; y < size; ++y)
+      for (int x = 0; x < size; ++x) {
+        double v = 0.5;
+        for (const Wave& w : waves) v += w.amplitude * std::sin(w.kx * (x - vx * t) + w.ky * (y - vy * t) + w.phase);
+        for (int c = 0; c < channels; ++c) f.at(x, y, c) = static_cast<float>(v * (1 - 0.1 * c));
+      }
+    out.push_back(f);
+  }
+  return out;
+}
+
+DominantMotion motion_of(const std::vector<Image>& frames, const DominantMotionOptions& options = {}) {
+  return dominant_motion(static_cast<int>(frames.size()), [&](int k) { return frames.at(std::size_t(k)); }, options);
+}
+
+double mean_psnr_between(const std::vector<Image>& made, const std::vector<Image>& truth, int step) {
+  double sum = 0;
+  int count = 0;
+  for (std::size_t t = 0; t < truth.size(); ++t) {
+    if (t % step == 0) continue;
+    double se = 0;
+    for (std::size_t i = 0; i < truth[t].pixels.size(); ++i) se += std::pow(double(made[t].pixels[i]) - truth[t].pixels[i], 2);
+    sum += 10 * std::log10(double(truth[t].pixels.size()) / se);
+    ++count;
+  }
+  return sum / count;
+}
+
+std::vector<Image> upscale_frames(const std::vector<Image>& in, int time_scale, const SequenceUpscaleOptions& o,
+                                  SequenceUpscaleStats* stats = nullptr) {
+  std::vector<Image> out;
+  const Image& f = in.front();
+  upscale_sequence(
+      static_cast<int>(in.size()), f.width, f.height, f.channels, [&](int k) { return in.at(std::size_t(k)); },
+      f.width, f.height, time_scale, o, [&](Image frame, int) { out.push_back(std::move(frame)); }, stats);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("dominant_motion: a translating texture's shift, whole and fractional, either sign") {
+  for (const auto& [vx, vy] : {std::pair{3.0, -2.0}, std::pair{-5.0, 0.0}, std::pair{2.5, 1.25}, std::pair{-1.5, 4.75}}) {
+    const DominantMotion m = motion_of(moving_texture(6, 96, vx, vy));
+    CAPTURE(vx);
+    CAPTURE(vy);
+    CHECK(m.found);
+    CHECK(m.pairs == 5);
+    CHECK(m.agreeing == 5);
+    CAPTURE(m.median_dx);
+    CAPTURE(m.median_dy);
+    CHECK(std::abs(m.dx - vx) <= 0.13);
+    CHECK(std::abs(m.dy - vy) <= 0.13);
+    CHECK(m.dx * 8 == std::round(m.dx * 8));  // rounded to 1/8 pixel
+  }
+}
+
+TEST_CASE("dominant_motion: none for still frames, motion of a pixel or less, a rotation, or one frame") {
+  const DominantMotion still = motion_of(moving_texture(5, 64, 0, 0));
+  CHECK_FALSE(still.found);
+  CHECK(still.dx == 0);
+  const DominantMotion slow = motion_of(moving_texture(5, 64, 0.75, -0.5));
+  CHECK_FALSE(slow.found);  // the lattice pairs it (slow_texture.hpp)
+  CHECK(std::abs(slow.median_dx - 0.75) <= 0.25);
+  std::vector<Image> turning;
+  for (int t = 0; t <= 16; t += 4) turning.push_back(render_sequence_frame("bar", t, 64, 64));
+  const DominantMotion bar = motion_of(turning);
+  CHECK_FALSE(bar.found);
+  CHECK(bar.dx == 0);
+  CHECK(bar.dy == 0);
+  CHECK_FALSE(motion_of(moving_texture(1, 32, 4, 0)).found);
+}
+
+TEST_CASE("dominant_motion: the pairs' frames are asked for in increasing order, each once (a video serves them)") {
+  const std::vector<Image> frames = moving_texture(40, 48, 2, 1, 1);
+  int next = 0;
+  const DominantMotion m = dominant_motion(40, [&](int k) {
+    REQUIRE(k >= next);
+    next = k + 1;
+    return frames.at(std::size_t(k));
+  });
+  CHECK(m.pairs == 16);
+  CHECK(m.found);
+  std::vector<Image> mixed = frames;
+  mixed[20] = Image(47, 48, 1);
+  CHECK_THROWS_AS(motion_of(mixed), Error);
+}
+
+TEST_CASE("upscale_sequence: a sheared initial mesh keeps linear fields exact and the input frames bit for bit") {
+  std::vector<Image> linear;
+  auto field = [](double x, double y, double t) { return 0.1 + 0.02 * x + 0.03 * y + 0.05 * t; };
+  for (int t = 0; t < 5; ++t) {
+    Image f(9, 7, 2);
+    for (int y = 0; y < 7; ++y)
+      for (int x = 0; x < 9; ++x) f.at(x, y, 0) = static_cast<float>(field(x, y, t)), f.at(x, y, 1) = 0.5f;
+    linear.push_back(f);
+  }
+  const std::vector<Image> noise = moving_texture(5, 12, 0, 0);
+  for (const auto& [dx, dy] : {std::pair{2.0, 1.0}, std::pair{-3.5, 0.25}, std::pair{0.0, -6.0}}) {
+    SequenceUpscaleOptions o;
+    o.shear_dominant_motion = false;
+    o.volume.time_shear = {dx, dy};
+    CAPTURE(dx);
+    CAPTURE(dy);
+    const std::vector<Image> out = upscale_frames(linear, 4, o);
+    REQUIRE(out.size() == 17);
+    double worst = 0;
+    for (std::size_t g = 0; g < out.size(); ++g)
+      for (int y = 0; y < 7; ++y)
+        for (int x = 0; x < 9; ++x) worst = std::max(worst, std::abs(out[g].at(x, y, 0) - field(x, y, g / 4.0)));
+    CHECK(worst < 2e-6);
+    const std::vector<Image> kept = upscale_frames(noise, 2, o);
+    int mismatches = 0;
+    for (std::size_t k = 0; k < noise.size(); ++k) mismatches += kept[2 * k].pixels != noise[k].pixels;
+    CHECK(mismatches == 0);
+  }
+}
+
+TEST_CASE("upscale_sequence: shearing along the dominant motion rebuilds a moving disk and a pan far better") {
+  // The disk moves (4, 2) px between kept frames; the texture (2, -3).
+  std::vector<Image> disk;
+  for (int t = 0; t <= 16; ++t) disk.push_back(render_sequence_frame("disk", t, 64, 64));
+  const std::vector<Image> pan = moving_texture(17, 48, 0.5, -0.75);
+  for (const std::vector<Image>* truth : {static_cast<const std::vector<Image>*>(&disk), &pan}) {
+    std::vector<Image> in;
+    for (std::size_t t = 0; t < truth->size(); t += 4) in.push_back((*truth)[t]);
+    SequenceUpscaleOptions lattice;
+    lattice.shear_dominant_motion = false;
+    SequenceUpscaleStats stats;
+    const double sheared = mean_psnr_between(upscale_frames(in, 4, {}, &stats), *truth, 4);
+    const double unsheared = mean_psnr_between(upscale_frames(in, 4, lattice), *truth, 4);
+    MESSAGE(std::string(truth == &disk ? "disk" : "texture") << ": mean PSNR sheared " << sheared << " dB (motion " << stats.motion.dx
+                                                  << ", " << stats.motion.dy << "), lattice " << unsheared << " dB");
+    CHECK(stats.motion.found);
+    CHECK(sheared > unsheared + 3);
+  }
+}
+
+TEST_CASE("set_motion: auto, off, DX,DY; anything else refused") {
+  SequenceUpscaleOptions o;
+  CHECK(motion_text(o) == "auto");
+  set_motion(o, "-2.5,1");
+  CHECK_FALSE(o.shear_dominant_motion);
+  CHECK(o.volume.time_shear == std::array<double, 2>{-2.5, 1});
+  CHECK(motion_text(o) == "-2.5,1");
+  set_motion(o, "off");
+  CHECK(motion_text(o) == "off");
+  set_motion(o, "auto");
+  CHECK(o.shear_dominant_motion);
+  for (const char* bad : {"", "on", "1", "1,2,3", "1,x", "nan,0", "0,inf", "2000,0", "1, 2x"})
+    CHECK_THROWS_AS(set_motion(o, bad), Error);
+}
