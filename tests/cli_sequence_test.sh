@@ -70,6 +70,17 @@ grep -qE "slow texture: [0-9]+ of [0-9]+ samples stay paired along time" "$work/
   bad "the default run does not test slow texture"
 run_ok "--flip-slow-texture" "$work/in/in_%04d.png" "$work/out/flip_%04d.png" --time-scale 2 -v --flip-slow-texture
 grep -q "slow texture:" "$work/err.txt" && bad "--flip-slow-texture still tests slow texture" || ok
+# The initial mesh sheared along the dominant motion: the strokes move
+# (-3, 2) px between the kept frames; --motion off and DX,DY as asked.
+run_ok "motion auto" "$work/in/in_%04d.png" "$work/out/m_%04d.png" --time-scale 4 -v
+grep -qE "motion: 2 of 2 frame pairs agree on \(-(2\.9|3\.0)[0-9], (1\.9|2\.0)[0-9]\) px a frame: the mesh starts sheared" "$work/err.txt" && ok ||
+  bad "the default run does not shear along the strokes' motion: $(grep 'motion:' "$work/err.txt")"
+run_ok "motion off" "$work/in/in_%04d.png" "$work/out/m_%04d.png" --time-scale 4 -v --motion off
+grep -q "motion:" "$work/err.txt" && bad "--motion off still estimates the motion" || ok
+run_ok "motion given" "$work/in/in_%04d.png" "$work/out/m_%04d.png" --time-scale 4 --motion -3,2
+run_fail "motion bad" "$work/in/in_%04d.png" "$work/out/mb_%04d.png" --time-scale 4 --motion 3
+grep -q "auto, off or DX,DY" "$work/err.txt" && ok || bad "--motion 3: $(cat "$work/err.txt")"
+[ "$(count "$work/out" 'mb_*.png')" -eq 0 ] && ok || bad "a refused --motion wrote frames"
 run_ok "help" "$work/in/in_%04d.png" x_%04d.png --help
 grep -q -- "--time-scale" "$work/out.txt" && ok || bad "--help does not describe --time-scale"
 

@@ -87,6 +87,7 @@ def upscale_sequence(
     presmooth: float = ...,
     tolerance: float = ...,
     flip_slow_texture: bool = ...,
+    motion: str = ...,
     time_tile: int = ...,
     time_margin: int = ...,
     exact_tiles: bool = ...,

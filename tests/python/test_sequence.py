@@ -57,6 +57,7 @@ def test_colour_space_scale_and_size():
     (np.zeros((2, 8, 8), np.uint8), dict(method="tricubic"), "--method"),
     (np.zeros((2, 8, 8), np.uint8), dict(nope=1), "nope"),
     (np.full((2, 8, 8), np.nan, np.float32), {}, "NaN"),
+    (np.zeros((2, 8, 8), np.uint8), dict(motion="fast"), "--motion"),
 ])
 def test_bad_input_raises_value_error(frames, kwargs, message):
     time_scale = kwargs.pop("time_scale", 2)
