@@ -58,7 +58,7 @@ static int run_sequence_eval(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--methods", options.methods,
                  "blend (linear in time), minterpolate (FFmpeg's motion-compensated interpolation, needs ffmpeg), "
-                 "delaunay, ddt, ddt-cubic, ddt-unsmoothed (no graduated optimization), ddt-all-flips (slow texture flipped too), ddt:COST")
+                 "delaunay, ddt, ddt-cubic, ddt-unsmoothed (no graduated optimization), ddt-all-flips (slow texture flipped too), ddt-lattice (no shear along the dominant motion), ddt:COST")
       ->delimiter(',')
       ->capture_default_str();
   app.add_option("--size", size_spec, "frame size, N or WxH (default 128)");

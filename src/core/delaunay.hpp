@@ -28,4 +28,17 @@ namespace ddt::core {
 template <int D>
 SimplexMesh<D> delaunay(const std::vector<Vec<D>>& points);
 
+// Points in layers (layer_size consecutive points each, every layer in a
+// plane of its own, the planes parallel and in order: the frames of an
+// image sequence, sheared or not): the Delaunay triangulation of each two
+// consecutive layers, canonical as above, glued along the layers they
+// share; cells in slab order (the canonical order, since ids grow with
+// the layer). Each slab is triangulated alone (in parallel, its CGAL
+// triangulation freed before the next), so memory and time stay those of
+// two layers, and a slab's cells depend on its two layers only. Returns
+// false, leaving mesh as it was, when a shared layer is triangulated
+// differently from its two sides (not seen; the caller then takes
+// delaunay<3> of all the points) or when there are fewer than two layers.
+bool layered_delaunay(const std::vector<Vec<3>>& points, index_t layer_size, SimplexMesh<3>& mesh);
+
 }  // namespace ddt::core

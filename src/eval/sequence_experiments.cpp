@@ -101,6 +101,7 @@ std::vector<Image> ddt_frames(const std::vector<Image>& frames, double time_scal
   if (base == "ddt-cubic") o.volume.render = Render::cubic;
   if (base == "ddt-unsmoothed") o.volume.presmooth = {};
   if (base == "ddt-all-flips") o.volume.keep_slow_texture = false;
+  if (base == "ddt-lattice") o.shear_dominant_motion = false;
   std::vector<Image> out;
   const Image& f0 = frames.front();
   upscale_sequence(
@@ -163,9 +164,9 @@ std::vector<SequenceExperimentRow> run_sequence_experiments(const SequenceExperi
   for (const std::string& m : o.methods) {
     const std::string base = m.substr(0, m.find(':'));
     if (base != "blend" && base != "minterpolate" && base != "delaunay" && base != "ddt" && base != "ddt-cubic" &&
-        base != "ddt-unsmoothed" && base != "ddt-all-flips")
+        base != "ddt-unsmoothed" && base != "ddt-all-flips" && base != "ddt-lattice")
       throw Error("unknown method '" + m +
-                  "' (valid: blend, minterpolate, delaunay, ddt, ddt-cubic, ddt-unsmoothed, ddt-all-flips, ddt:COST)");
+                  "' (valid: blend, minterpolate, delaunay, ddt, ddt-cubic, ddt-unsmoothed, ddt-all-flips, ddt-lattice, ddt:COST)");
   }
   auto log = [&](const std::string& line) {
     if (o.log) o.log(line);

@@ -102,7 +102,9 @@ core::SimplexMesh<3> sheared_delaunay(const std::array<int, 3>& size, const std:
       for (int x = 0; x < size[0]; ++x) points.push_back({x + 0.5, y + 0.5, t + 0.5});
   std::vector<core::Vec<3>> sheared = points;
   for (core::Vec<3>& p : sheared) p[0] -= shear[0] * p[2], p[1] -= shear[1] * p[2];
-  core::SimplexMesh<3> mesh = core::delaunay<3>(sheared);
+  core::SimplexMesh<3> mesh;
+  if (!core::layered_delaunay(sheared, static_cast<index_t>(size[0]) * size[1], mesh))
+    mesh = core::delaunay<3>(sheared);
   mesh.points = std::move(points);
   return mesh;
 }

@@ -74,3 +74,34 @@ TEST_CASE("core grid_delaunay<4>: the same arrays as CGAL's dD Delaunay, 24 simp
   }
   CHECK(grid_delaunay<4>({3, 3, 1, 3}).cell_count() == 0);
 }
+
+TEST_CASE("core layered_delaunay: the grid's arrays on a lattice; valid and filling the box when sheared") {
+  for (const auto& n : std::vector<std::array<int, 3>>{{2, 2, 2}, {5, 4, 6}, {7, 3, 2}, {6, 6, 6}}) {
+    CAPTURE(n[0]);
+    CAPTURE(n[1]);
+    CAPTURE(n[2]);
+    SimplexMesh<3> layered;
+    REQUIRE(layered_delaunay(centres<3>(n), n[0] * n[1], layered));
+    const SimplexMesh<3> whole = grid_delaunay<3>(n);
+    CHECK(layered.cell == whole.cell);
+    CHECK(layered.opp == whole.opp);
+    // Sheared by whole and fractional shifts a layer: the cells, over the
+    // unsheared points, are a valid mesh of the box (the shear is affine).
+    for (const auto& [dx, dy] : std::vector<std::pair<double, double>>{{2, 1}, {-3, 0}, {1.25, -2.5}, {0.5, 0.375}}) {
+      CAPTURE(dx);
+      CAPTURE(dy);
+      std::vector<Vec<3>> points = centres<3>(n), sheared = points;
+      for (Vec<3>& p : sheared) p[0] -= dx * p[2], p[1] -= dy * p[2];
+      SimplexMesh<3> mesh;
+      REQUIRE(layered_delaunay(sheared, n[0] * n[1], mesh));
+      CHECK(check_mesh<3>(mesh) == "");  // over the sheared points
+      mesh.points = points;
+      CHECK(check_mesh<3>(mesh) == "");
+      CHECK(total_content<3>(mesh) == doctest::Approx(double(n[0] - 1) * (n[1] - 1) * (n[2] - 1)));
+    }
+  }
+  SimplexMesh<3> untouched;
+  CHECK_FALSE(layered_delaunay(centres<3>({4, 4, 1}), 16, untouched));  // one layer
+  CHECK_FALSE(layered_delaunay(centres<3>({4, 4, 3}), 15, untouched));  // not whole layers
+  CHECK(untouched.cell.empty());
+}
