@@ -41,19 +41,22 @@ Plane half(const Plane& p) {
 }
 
 // Mean |a(x, y) - b(x + dx, y + dy)| over the overlap (squared: of the
-// squares).
+// squares); infinite when the overlap is under half the frame on an axis,
+// where a few pixels could match by chance.
 double mean_difference(const Plane& a, const Plane& b, int dx, int dy, bool squared = false) {
   const int x0 = std::max(0, -dx), x1 = std::min(a.width, a.width - dx);
   const int y0 = std::max(0, -dy), y1 = std::min(a.height, a.height - dy);
-  if (x1 <= x0 || y1 <= y0) return std::numeric_limits<double>::infinity();
+  if (2 * (x1 - x0) < a.width || 2 * (y1 - y0) < a.height || x1 <= x0 || y1 <= y0)
+    return std::numeric_limits<double>::infinity();
   double sum = 0;
+  const int n = x1 - x0;
   for (int y = y0; y < y1; ++y) {
-    const float* ra = a.v.data() + static_cast<std::size_t>(y) * a.width;
-    const float* rb = b.v.data() + static_cast<std::size_t>(y + dy) * b.width + dx;
+    const float* ra = a.v.data() + static_cast<std::size_t>(y) * a.width + x0;
+    const float* rb = b.v.data() + static_cast<std::size_t>(y + dy) * b.width + (x0 + dx);
     if (squared)
-      for (int x = x0; x < x1; ++x) sum += double(ra[x] - rb[x]) * (ra[x] - rb[x]);
+      for (int i = 0; i < n; ++i) sum += double(ra[i] - rb[i]) * (ra[i] - rb[i]);
     else
-      for (int x = x0; x < x1; ++x) sum += std::abs(ra[x] - rb[x]);
+      for (int i = 0; i < n; ++i) sum += std::abs(ra[i] - rb[i]);
   }
   return sum / (double(x1 - x0) * (y1 - y0));
 }

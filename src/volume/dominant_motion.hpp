@@ -15,20 +15,22 @@
 // the flips then work from there, for whatever does not move with it.
 //
 // Per pair of consecutive frames (at most max_pairs pairs, evenly spaced):
-// the mean absolute difference over the overlap of frame t at (x, y) and
-// frame t + 1 at (x + dx, y + dy), channels averaged, is minimized over
-// whole shifts, coarse to fine (2x2 box pyramid down to about 32 pixels,
-// an exhaustive search of +-4 there, +-1 at each finer level), then
-// refined to a fraction of a pixel by the vertex of the quadratic through
-// the mean squared differences at the 3x3 shifts around it. A pair is explained when its best difference is at most
-// max_residual_share of the difference without a shift (identical frames:
-// the zero shift, explained).
+// the mean absolute difference, channels averaged, of frame t at (x, y) and
+// frame t + 1 at (x + dx, y + dy) over their overlap (at least half the
+// frame on each axis) is minimized over whole shifts, coarse to fine (2x2
+// box pyramid down to about 32 pixels, an exhaustive search of +-4 there,
+// +-1 at each finer level), then refined to a fraction of a pixel by the
+// vertex of the quadratic through the mean squared differences at the 3x3
+// shifts around it. A pair is explained when its best difference is at
+// most max_residual_share of the difference without a shift (identical
+// frames: the zero shift, explained).
 //
 // The result is the median shift of the pairs, kept when at least
 // min_agreeing_share of the pairs are explained and within 0.5 pixel of it
 // and it moves more than min_shift pixels on some axis (slower motion is
 // what the lattice already pairs well: slow_texture.hpp); else zero. It is
-// rounded to 1/8 pixel, so that tiles that see the same motion shear alike.
+// rounded to 1/8 pixel, so that the mesh does not hang on the estimate's
+// last bits (a whole shift stays whole).
 //
 // frame(k) gives input frame k (0-based; any channels); the frames of the
 // pairs are asked for in increasing order, each once, so a source that
