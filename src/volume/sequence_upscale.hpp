@@ -5,7 +5,9 @@
 // generalized Lawson procedure like a volume (volume_upscale.hpp), all
 // channels on one mesh. A moving edge is a slanted surface in (x, y, t);
 // tetrahedra that align with it interpolate along the motion, without
-// optical flow and without the double images of blended frames.
+// per-pixel optical flow (at most one translation for the whole sequence,
+// dominant_motion.hpp, shears the initial mesh) and without the double
+// images of blended frames.
 //
 // Time is node-centred (frames are instants): output frame g samples the
 // field at the instant g / s of the input's frames (0 the first). At a
