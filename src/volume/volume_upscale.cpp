@@ -123,12 +123,14 @@ std::vector<float> mesh_reconstruction(const GridProblem<D>& grid, const VolumeU
     return text;
   };
   auto t0 = Clock::now();
-  core::SimplexMesh<D> mesh = core::grid_delaunay<D>(grid.input);  // = CGAL's Delaunay of the sample points
+  core::SimplexMesh<D> mesh;
+  bool sheared = false;
   if constexpr (D == 3)
     if (grid.last_axis_is_time && (options.time_shear[0] != 0 || options.time_shear[1] != 0)) {
       mesh = sheared_delaunay(grid.input, options.time_shear);
-      local.seconds_triangulate = seconds_since(t0);
+      sheared = true;
     }
+  if (!sheared) mesh = core::grid_delaunay<D>(grid.input);  // = CGAL's Delaunay of the sample points
   local.seconds_triangulate = seconds_since(t0);
   local.tetrahedra = mesh.cell_count();
   log(std::string(D == 3 ? "tetrahedralize: " : "triangulate: ") + std::to_string(mesh.points.size()) +
