@@ -2,6 +2,7 @@
 #include "core/delaunay.hpp"
 
 #include "core/predicates.hpp"
+#include "util/error.hpp"
 
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -22,6 +23,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <utility>
 
@@ -76,8 +78,7 @@ std::vector<CellVertices<D>> cgal_cells(const std::vector<Vec<D>>& points) {
 
 // D = 3, the large case (image sequences sheared along their motion):
 // glued from CGAL's own neighbours instead of by link_facets, which sorts
-// every facet (time and about 60 bytes a cell more at the peak); the same
-// arrays.
+// every facet; the same arrays.
 SimplexMesh<3> glued_delaunay_3(const std::vector<Vec<3>>& points) {
   using Vb = CGAL::Triangulation_vertex_base_with_info_3<index_t, Kernel23>;
   using Cb = CGAL::Triangulation_cell_base_with_info_3<index_t, Kernel23, CGAL::Delaunay_triangulation_cell_base_3<Kernel23>>;
@@ -109,6 +110,8 @@ SimplexMesh<3> glued_delaunay_3(const std::vector<Vec<3>>& points) {
       canonical.push_back(v);
       slot_of.push_back(slots);
     }
+    if (canonical.size() > static_cast<std::size_t>(std::numeric_limits<index_t>::max() / 4))
+      throw Error("the triangulation has too many tetrahedra for 32-bit facet ids");
     std::vector<index_t> order(canonical.size());
     for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<index_t>(i);
     std::sort(order.begin(), order.end(), [&](index_t a, index_t b) { return canonical[a] < canonical[b]; });
@@ -197,6 +200,8 @@ bool layered_delaunay(const std::vector<Vec<3>>& points, index_t layer_size, Sim
     tbb::parallel_for(index_t(0), count, [&](index_t i) { triangulate(s0 + i, batch_slabs[std::size_t(i)]); });
     for (Slab& slab : batch_slabs) {
       if (slab.mesh.cell.empty()) return false;
+      if (glued.opp.size() + slab.mesh.opp.size() > static_cast<std::size_t>(std::numeric_limits<index_t>::max()))
+        throw Error("the triangulation has too many tetrahedra for 32-bit facet ids");
       const index_t offset = static_cast<index_t>(glued.opp.size());
       if (offset > 0) {  // the shared layer's faces must be the same triangles
         if (previous_top.size() != slab.bottom.size()) return false;

@@ -39,6 +39,7 @@ SimplexMesh<D> delaunay(const std::vector<Vec<D>>& points);
 // false, leaving mesh as it was, when a shared layer is triangulated
 // differently from its two sides (not seen; the caller then takes
 // delaunay<3> of all the points) or when there are fewer than two layers.
+// Errors: throws ddt::Error when the facet ids would overflow index_t.
 bool layered_delaunay(const std::vector<Vec<3>>& points, index_t layer_size, SimplexMesh<3>& mesh);
 
 }  // namespace ddt::core
