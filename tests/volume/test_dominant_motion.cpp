@@ -114,36 +114,6 @@ TEST_CASE("dominant_motion: the pairs' frames are asked for in increasing order,
   CHECK_THROWS_AS(motion_of(mixed), Error);
 }
 
-TEST_CASE("upscale_sequence: a sheared initial mesh keeps linear fields exact and the input frames bit for bit") {
-  std::vector<Image> linear;
-  auto field = [](double x, double y, double t) { return 0.1 + 0.02 * x + 0.03 * y + 0.05 * t; };
-  for (int t = 0; t < 5; ++t) {
-    Image f(9, 7, 2);
-    for (int y = 0; y < 7; ++y)
-      for (int x = 0; x < 9; ++x) f.at(x, y, 0) = static_cast<float>(field(x, y, t)), f.at(x, y, 1) = 0.5f;
-    linear.push_back(f);
-  }
-  const std::vector<Image> noise = moving_texture(5, 12, 0, 0);
-  for (const auto& [dx, dy] : {std::pair{2.0, 1.0}, std::pair{-3.5, 0.25}, std::pair{0.0, -6.0}}) {
-    SequenceUpscaleOptions o;
-    o.shear_dominant_motion = false;
-    o.volume.time_shear = {dx, dy};
-    CAPTURE(dx);
-    CAPTURE(dy);
-    const std::vector<Image> out = upscale_frames(linear, 4, o);
-    REQUIRE(out.size() == 17);
-    double worst = 0;
-    for (std::size_t g = 0; g < out.size(); ++g)
-      for (int y = 0; y < 7; ++y)
-        for (int x = 0; x < 9; ++x) worst = std::max(worst, std::abs(out[g].at(x, y, 0) - field(x, y, g / 4.0)));
-    CHECK(worst < 2e-6);
-    const std::vector<Image> kept = upscale_frames(noise, 2, o);
-    int mismatches = 0;
-    for (std::size_t k = 0; k < noise.size(); ++k) mismatches += kept[2 * k].pixels != noise[k].pixels;
-    CHECK(mismatches == 0);
-  }
-}
-
 TEST_CASE("upscale_sequence: shearing along the dominant motion rebuilds a moving disk and a pan far better") {
   // The disk moves (4, 2) px between kept frames; the texture (2, -3).
   std::vector<Image> disk;

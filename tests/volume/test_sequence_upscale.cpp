@@ -35,6 +35,20 @@ std::vector<Image> run(const std::vector<Image>& in, double time_scale, Sequence
   return out;
 }
 
+// The default options (the dominant motion's shear, if any), the
+// lattice's initial mesh (no shear), and meshes sheared by whole and
+// fractional shifts a frame.
+std::vector<SequenceUpscaleOptions> initial_meshes() {
+  std::vector<SequenceUpscaleOptions> meshes{SequenceUpscaleOptions{}};
+  for (const auto& [dx, dy] : {std::pair{0.0, 0.0}, std::pair{2.0, 1.0}, std::pair{-3.5, 0.25}, std::pair{0.0, -6.0}}) {
+    SequenceUpscaleOptions o;
+    o.shear_dominant_motion = false;
+    o.volume.time_shear = {dx, dy};
+    meshes.push_back(o);
+  }
+  return meshes;
+}
+
 double psnr(const Image& a, const Image& b) {
   double sum = 0;
   for (std::size_t i = 0; i < a.pixels.size(); ++i) sum += std::pow(double(a.pixels[i]) - b.pixels[i], 2);
@@ -49,15 +63,18 @@ TEST_CASE("upscale_sequence: (T - 1) * s + 1 frames, each input frame kept bit f
   std::vector<Image> in(5, Image(9, 7, 3));
   for (Image& f : in)
     for (float& v : f.pixels) v = u(rng);
-  for (const int s : {1, 2, 4}) {
-    for (const Render render : {Render::linear, Render::cubic}) {
-      SequenceUpscaleOptions o;
-      o.volume.render = render;
-      const std::vector<Image> out = run(in, s, o);
-      REQUIRE(out.size() == std::size_t(4 * s + 1));
-      int mismatches = 0;
-      for (int k = 0; k < 5; ++k) mismatches += out[std::size_t(k * s)].pixels != in[std::size_t(k)].pixels;
-      CHECK(mismatches == 0);
+  for (SequenceUpscaleOptions o : initial_meshes()) {
+    CAPTURE(o.volume.time_shear[0]);
+    CAPTURE(o.volume.time_shear[1]);
+    for (const int s : {1, 2, 4}) {
+      for (const Render render : {Render::linear, Render::cubic}) {
+        o.volume.render = render;
+        const std::vector<Image> out = run(in, s, o);
+        REQUIRE(out.size() == std::size_t(4 * s + 1));
+        int mismatches = 0;
+        for (int k = 0; k < 5; ++k) mismatches += out[std::size_t(k * s)].pixels != in[std::size_t(k)].pixels;
+        CHECK(mismatches == 0);
+      }
     }
   }
   // x3 in space as well: the input pixels sit at the centre of each 3x3 block.
@@ -71,7 +88,7 @@ TEST_CASE("upscale_sequence: (T - 1) * s + 1 frames, each input frame kept bit f
   CHECK(mismatches == 0);
 }
 
-TEST_CASE("upscale_sequence: a field linear in x, y and t is exact between the frames") {
+TEST_CASE("upscale_sequence: a field linear in x, y and t is exact between the frames, on any initial mesh") {
   std::vector<Image> in;
   auto field = [](double x, double y, double t) { return 0.1 + 0.02 * x + 0.03 * y + 0.05 * t; };
   for (int t = 0; t < 6; ++t) {
@@ -80,12 +97,17 @@ TEST_CASE("upscale_sequence: a field linear in x, y and t is exact between the f
       for (int x = 0; x < 8; ++x) f.at(x, y) = static_cast<float>(field(x, y, t));
     in.push_back(f);
   }
-  const std::vector<Image> out = run(in, 4);
-  double worst = 0;
-  for (std::size_t g = 0; g < out.size(); ++g)
-    for (int y = 0; y < 6; ++y)
-      for (int x = 0; x < 8; ++x) worst = std::max(worst, std::abs(out[g].at(x, y) - field(x, y, g / 4.0)));
-  CHECK(worst < 2e-6);
+  for (const SequenceUpscaleOptions& o : initial_meshes()) {
+    CAPTURE(o.volume.time_shear[0]);
+    CAPTURE(o.volume.time_shear[1]);
+    const std::vector<Image> out = run(in, 4, o);
+    REQUIRE(out.size() == 21);
+    double worst = 0;
+    for (std::size_t g = 0; g < out.size(); ++g)
+      for (int y = 0; y < 6; ++y)
+        for (int x = 0; x < 8; ++x) worst = std::max(worst, std::abs(out[g].at(x, y) - field(x, y, g / 4.0)));
+    CHECK(worst < 2e-6);
+  }
 }
 
 TEST_CASE("upscale_sequence: a fractional time scale (60/24) samples the instants g / s, in tiles too") {
