@@ -1,5 +1,7 @@
 #include "image/lookahead.hpp"
 
+#include <algorithm>
+
 namespace ddt {
 namespace {
 
@@ -56,7 +58,8 @@ LookaheadStats optimize_lookahead(Mesh2& mesh, const std::vector<float>& values,
         if (!is_flippable(mesh, h)) continue;
         const FlipCosts second = flip_costs(mesh, values, K, cost, h);
         const double gain = first.gain() + second.gain();
-        if (gain > lawson.relative_tolerance * (first.before + second.before) && gain > best_gain) {
+        const double scale = std::max(first.before + second.before, first.noise_scale + second.noise_scale);
+        if (gain > lawson.relative_tolerance * scale && gain > best_gain) {
           best = h;
           best_gain = gain;
         }

@@ -13,7 +13,8 @@
 //       for each outer edge h of the new quadrilateral (c-a, a-d, d-b, b-c),
 //       if flippable: g2 = gain of flipping h now
 //       keep the best pair when g1 + g2 > relative_tolerance * (local cost
-//       before both flips) and > 0: flip h; else flip e back
+//       before both flips, or the two flips' noise scales summed if larger:
+//       core/local_cost.hpp) and > 0: flip h; else flip e back
 //     if the sweep kept a pair: optimize_lawson again
 // Every kept pair and every Lawson flip lowers the total strictly, so it
 // terminates; the result is locally optimal for single flips (it ends with

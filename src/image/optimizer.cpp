@@ -76,9 +76,11 @@ index_t apex_of(const TriangleField& t, index_t u, index_t v) {
 }
 
 // Facet cost of edge u-v between triangles s and t (0 on the hull), times
-// (area(s) + area(t)) / 3 in the weighted-content form.
+// (area(s) + area(t)) / 3 in the weighted-content form; adds the term's
+// noise scale (|g1| |g2| times that weight, per channel), as the core's
+// facet_term does.
 double edge_cost(const Mesh2& mesh, const std::vector<float>& values, const CostFunction& cost, int K,
-                 const TriangleField& s, const TriangleField& t, index_t u, index_t v) {
+                 const TriangleField& s, const TriangleField& t, index_t u, index_t v, double* noise = nullptr) {
   if (!s.present || !t.present) return 0;  // hull edges contribute nothing
   FacetPair facet;
   facet.dim = 2;
@@ -107,7 +109,14 @@ double edge_cost(const Mesh2& mesh, const std::vector<float>& values, const Cost
     }
     c += cost.facet_cost(facet);
   }
-  if (cost.form == CostForm::facet_weighted_content) c *= (s.area + t.area) / 3.0;
+  const double weight = cost.form == CostForm::facet_weighted_content ? (s.area + t.area) / 3.0 : 1.0;
+  if (noise)
+    for (int k = 0; k < K; ++k) {
+      const double n1 = s.grad[k][0] * s.grad[k][0] + s.grad[k][1] * s.grad[k][1];
+      const double n2 = t.grad[k][0] * t.grad[k][0] + t.grad[k][1] * t.grad[k][1];
+      *noise += std::sqrt(n1 * n2) * weight;
+    }
+  if (cost.form == CostForm::facet_weighted_content) c *= weight;
   return c;
 }
 
@@ -160,10 +169,8 @@ struct Geometry {
   }
 };
 
-// The acceptance rule of the procedure: the core's (core/local_cost.hpp),
-// with noise_scale 0 (the 2D evaluators do not compute one).
-inline bool accept(double before, double after, double tolerance, double& gain) {
-  const core::LocalCosts costs{before, after, 0.0};
+// The acceptance rule of the procedure: the core's (core/local_cost.hpp).
+inline bool accept(const FlipCosts& costs, double tolerance, double& gain) {
   gain = costs.gain();
   return costs.improves(tolerance);
 }
@@ -180,8 +187,7 @@ struct ReferenceEvaluator {
   struct Scratch {};
   bool decide(index_t e, double& gain, long long&, Scratch&) const {
     if (!geometry.flippable(e)) return false;
-    const FlipCosts fc = flip_costs(mesh, values, K, cost, e);
-    return accept(fc.before, fc.after, tolerance, gain);
+    return accept(flip_costs(mesh, values, K, cost, e), tolerance, gain);
   }
   void commit(index_t, index_t, const Scratch&) const {}
 };
@@ -297,21 +303,36 @@ struct SederbergEvaluator {
     const std::vector<double>& C = *cost;
     // edge(t0, t1) + edge(t0, n_bc) + edge(t0, n_ca) + edge(t1, n_ad) + edge(t1, n_db)
     const double before = C[e] + C[next_edge(e)] + C[prev_edge(e)] + C[next_edge(f)] + C[prev_edge(f)];
-    Field t0n, t1n, n;
+    Field t0n, t1n, n[4];
     field(d, c, a, t0n);
     field(c, d, b, t1n);
     double* term = scratch.terms;
     // edge(t0n, t1n) + edge(t1n, n_bc) + edge(t0n, n_ca) + edge(t0n, n_ad) + edge(t1n, n_db)
-    double after = term[0] = edge(t0n, t1n);
-    if (!accept(before, after, tolerance, gain)) return false;
+    FlipCosts costs{before, term[0] = edge(t0n, t1n), 0.0};
+    if (!accept(costs, tolerance, gain)) return false;
     const index_t outer[4] = {next_edge(e), prev_edge(e), next_edge(f), prev_edge(f)};  // bc, ca, ad, db
     const Field* inner[4] = {&t1n, &t0n, &t0n, &t1n};
     for (int i = 0; i < 4; ++i) {
-      across(outer[i], n);
-      after += term[i + 1] = edge(*inner[i], n);
-      if (!accept(before, after, tolerance, gain)) return false;
+      across(outer[i], n[i]);
+      costs.after += term[i + 1] = edge(*inner[i], n[i]);
+      if (!accept(costs, tolerance, gain)) return false;
     }
-    return true;
+    // Accepted without the noise scale, which only makes the rule harder:
+    // now the scale, summed as flip_costs does (before's terms, then after's).
+    Field t0, t1;
+    field(a, b, c, t0);
+    field(b, a, d, t1);
+    const Field* before_pairs[5][2] = {{&t0, &t1}, {&t0, &n[0]}, {&t0, &n[1]}, {&t1, &n[2]}, {&t1, &n[3]}};
+    const Field* after_pairs[5][2] = {{&t0n, &t1n}, {&t1n, &n[0]}, {&t0n, &n[1]}, {&t0n, &n[2]}, {&t1n, &n[3]}};
+    for (const auto& pair : before_pairs) add_noise(*pair[0], *pair[1], costs.noise_scale);
+    for (const auto& pair : after_pairs) add_noise(*pair[0], *pair[1], costs.noise_scale);
+    return accept(costs, tolerance, gain);
+  }
+  // edge_cost's noise scale of the term of s and t.
+  void add_noise(const Field& s, const Field& t, double& noise) const {
+    if (!s.present || !t.present) return;
+    const double weight = weighted ? (s.area + t.area) / 3.0 : 1.0;
+    for (int k = 0; k < channels(); ++k) noise += std::sqrt(s.norm2[k] * t.norm2[k]) * weight;
   }
   // After flip_edge(mesh, e): stores the new terms. The slots of the flip
   // diagram now hold e = d->c, next(e) = c->a, prev(e) = a->d,
@@ -363,7 +384,7 @@ struct VarianceEvaluator {
     const index_t a = q[0], b = q[1], c = q[2], d = q[3];
     const double before = triangle(a, b, c) + triangle(b, a, d);
     const double after = triangle(d, c, a) + triangle(c, d, b);
-    return accept(before, after, tolerance, gain);
+    return accept(FlipCosts{before, after, 0.0}, tolerance, gain);  // simplex weights: no noise scale
   }
 };
 
@@ -614,12 +635,20 @@ FlipCosts flip_costs(const Mesh2& mesh, const std::vector<float>& values, int K,
   const TriangleField t0n = triangle_field(mesh, values, K, d, c, a);
   const TriangleField t1n = triangle_field(mesh, values, K, c, d, b);
   auto edge = [&](const TriangleField& s, const TriangleField& t, index_t u, index_t v) {
-    return edge_cost(mesh, values, cost, K, s, t, u, v);
+    return edge_cost(mesh, values, cost, K, s, t, u, v, &out.noise_scale);
   };
-  out.before = edge(t0, t1, a, b) + edge(t0, n_bc, b, c) + edge(t0, n_ca, c, a) + edge(t1, n_ad, a, d) +
-               edge(t1, n_db, d, b);
-  out.after = edge(t0n, t1n, c, d) + edge(t1n, n_bc, b, c) + edge(t0n, n_ca, c, a) + edge(t0n, n_ad, a, d) +
-              edge(t1n, n_db, d, b);
+  // One term at a time: the noise scale is summed in this order too (the
+  // fast evaluator repeats it).
+  out.before = edge(t0, t1, a, b);
+  out.before += edge(t0, n_bc, b, c);
+  out.before += edge(t0, n_ca, c, a);
+  out.before += edge(t1, n_ad, a, d);
+  out.before += edge(t1, n_db, d, b);
+  out.after = edge(t0n, t1n, c, d);
+  out.after += edge(t1n, n_bc, b, c);
+  out.after += edge(t0n, n_ca, c, a);
+  out.after += edge(t0n, n_ad, a, d);
+  out.after += edge(t1n, n_db, d, b);
   return out;
 }
 

@@ -8,9 +8,11 @@
 //
 // A flip's cost change is computed locally from the simplices whose weight
 // it changes: the quadrilateral's two triangles and, for facet costs, the
-// neighbours across its four outer edges. It is taken only when it lowers
-// the total by more than relative_tolerance times the local cost, so the
-// total strictly decreases and the procedure terminates.
+// neighbours across its four outer edges. It is taken by the core's rule
+// (core/local_cost.hpp): when it lowers the total by more than
+// relative_tolerance times the larger of the local cost and, for facet
+// costs, the scale of its rounding noise; so the total strictly decreases,
+// the procedure terminates, and --tolerance means what it means in 3D.
 //
 // Regions (large meshes, in parallel). Lawson's result depends on the order
 // of the flips. A mesh of more than 2 * region_triangles triangles is cut
@@ -40,6 +42,7 @@
 // Complexity: O(#edges) per iteration; each test O(K).
 
 #include "core/costs.hpp"
+#include "core/local_cost.hpp"
 #include "image/mesh.hpp"
 
 #include <functional>
@@ -92,13 +95,11 @@ struct LawsonStats {
 double total_cost(const Mesh2& mesh, const std::vector<float>& values, int K, const CostFunction& cost);
 
 // Local cost of the configuration around half-edge e before and after
-// flipping it (other contributions are unchanged). Precondition: e interior.
+// flipping it (other contributions are unchanged), with the noise scale of
+// its facet terms: the core's LocalCosts, whose improves() is the one
+// acceptance rule of every dimension. Precondition: e interior.
 // The reference evaluation; the optimizer's fast paths reproduce it bit for bit.
-struct FlipCosts {
-  double before = 0;
-  double after = 0;
-  double gain() const { return before - after; }
-};
+using FlipCosts = core::LocalCosts;
 FlipCosts flip_costs(const Mesh2& mesh, const std::vector<float>& values, int K, const CostFunction& cost,
                      index_t e);
 

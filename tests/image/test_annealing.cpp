@@ -65,7 +65,7 @@ TEST_CASE("optimize_anneal: ends valid and locally optimal, for every cost") {
     for (index_t e = 0; e < m.half_edge_count(); ++e) {
       if (!is_flippable(m, e)) continue;
       const FlipCosts fc = flip_costs(m, values, 2, cost, e);
-      CHECK(fc.gain() <= lawson.relative_tolerance * std::max(fc.before, fc.after) + 1e-15);
+      CHECK_FALSE(fc.improves(lawson.relative_tolerance));
     }
   }
 }

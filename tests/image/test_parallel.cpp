@@ -140,7 +140,7 @@ TEST_CASE("optimize_lawson: regions give the same mesh on any number of threads,
     for (index_t e = 0; e < m.half_edge_count(); ++e) {
       if (!is_flippable(m, e)) continue;
       const FlipCosts fc = flip_costs(m, values, 3, cost, e);
-      if (fc.gain() > opt.relative_tolerance * std::max(fc.before, fc.after) && fc.gain() > 0) ++not_optimal;
+      if (fc.improves(opt.relative_tolerance)) ++not_optimal;
     }
     CHECK(not_optimal == 0);
     // The sequential order reaches another local optimum. Seam edges wait
