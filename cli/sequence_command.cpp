@@ -205,7 +205,7 @@ static int run_sequence_upscale(int argc, char** argv) {
   app.add_option("--motion", motion,
                  "initial mesh: auto (sheared along the frames' dominant motion, a pan or one object moving, when "
                  "they have one of more than a pixel a frame), off (the pixel lattice's), or DX,DY (sheared by that "
-                 "many pixels a frame); docs/sequences.md, \"Dominant motion\"")
+                 "many pixels a frame, rounded to 1/8); docs/sequences.md, \"Dominant motion\"")
       ->capture_default_str();
   app.add_option("--time-tile", options.tile_frames,
                  "input frames reconstructed at once (default: about 4 million input pixels a tile, margins "
@@ -344,7 +344,7 @@ static int run_sequence_upscale(int argc, char** argv) {
     if (video_in) {
       size_job(in_video.width, in_video.height, 3);
       reader = std::make_unique<ddt::VideoReader>(input, in_video);
-      if (options.shear_dominant_motion) {
+      if (options.shear_dominant_motion && method == "ddt") {
         // The motion's frames from a reader of their own: the main one
         // only goes forward, from the first frame.
         auto motion_reader = std::make_shared<ddt::VideoReader>(input, in_video);

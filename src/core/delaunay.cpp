@@ -4,6 +4,7 @@
 #include "core/predicates.hpp"
 #include "util/error.hpp"
 
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -159,6 +160,9 @@ SimplexMesh<D> delaunay(const std::vector<Vec<D>>& points) {
 }
 
 bool layered_delaunay(const std::vector<Vec<3>>& points, index_t layer_size, SimplexMesh<3>& mesh) {
+  // About 6 cells a point, 4 facet ids each: refused before any work.
+  if (points.size() > static_cast<std::size_t>(std::numeric_limits<index_t>::max()) / 28)
+    throw Error("a triangulation of " + std::to_string(points.size()) + " points has too many tetrahedra for 32-bit ids");
   const index_t n = static_cast<index_t>(points.size());
   if (layer_size < 1 || n % layer_size != 0 || n / layer_size < 2) return false;
   const index_t slabs = n / layer_size - 1;
@@ -192,7 +196,11 @@ bool layered_delaunay(const std::vector<Vec<3>>& points, index_t layer_size, Sim
   const std::size_t expected = 4 * std::size_t(7) * static_cast<std::size_t>(layer_size) * slabs;  // ~6 cells a sample
   glued.cell.reserve(expected);
   glued.opp.reserve(expected);
-  const index_t batch = std::max(1, tbb::this_task_arena::max_concurrency());
+  // The threads allowed (--threads sets a global_control, which the arena's
+  // concurrency does not show).
+  const index_t batch = static_cast<index_t>(std::max<std::size_t>(
+      1, std::min<std::size_t>(tbb::this_task_arena::max_concurrency(),
+                               tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism))));
   std::vector<std::pair<Triple, index_t>> previous_top;  // in glued's facet ids
   for (index_t s0 = 0; s0 < slabs; s0 += batch) {
     const index_t count = std::min(batch, slabs - s0);

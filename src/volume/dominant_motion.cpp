@@ -2,7 +2,9 @@
 
 #include "util/error.hpp"
 
+#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
@@ -85,14 +87,16 @@ struct PairMotion {
 };
 
 PairMotion pair_motion(const Plane& a, const Plane& b, const DominantMotionOptions& options) {
-  std::vector<Plane> pa{a}, pb{b};
-  while (std::min(pa.back().width, pa.back().height) >= 64) {
-    pa.push_back(half(pa.back()));
-    pb.push_back(half(pb.back()));
+  std::vector<Plane> pa, pb;  // the halved levels (level 0 is a, b themselves)
+  auto level_a = [&](std::size_t l) -> const Plane& { return l == 0 ? a : pa[l - 1]; };
+  auto level_b = [&](std::size_t l) -> const Plane& { return l == 0 ? b : pb[l - 1]; };
+  while (std::min(level_a(pa.size()).width, level_a(pa.size()).height) >= 64) {
+    pa.push_back(half(level_a(pa.size())));
+    pb.push_back(half(level_b(pb.size())));
   }
-  Shift s = best_shift(pa.back(), pb.back(), 0, 0, 4);
-  for (int level = static_cast<int>(pa.size()) - 2; level >= 0; --level)
-    s = best_shift(pa[level], pb[level], 2 * s.dx, 2 * s.dy, 1);
+  Shift s = best_shift(level_a(pa.size()), level_b(pb.size()), 0, 0, 4);
+  for (int level = static_cast<int>(pa.size()) - 1; level >= 0; --level)
+    s = best_shift(level_a(level), level_b(level), 2 * s.dx, 2 * s.dy, 1);
   const double unshifted = mean_difference(a, b, 0, 0);
   if (unshifted <= 1e-7) return {0, 0, true};
   PairMotion m;
@@ -132,20 +136,31 @@ DominantMotion dominant_motion(int frames, const std::function<Image(int)>& fram
   DominantMotion result;
   if (frames < 2 || options.max_pairs < 1) return result;
   const int pairs = std::min(options.max_pairs, frames - 1);
-  std::vector<Plane> first(pairs), second(pairs);
-  int previous = -2;  // the frame before the last one read
-  for (int i = 0; i < pairs; ++i) {
-    // Evenly spaced, at least a frame apart: the frames come in order.
-    const int t = pairs == 1 ? 0 : static_cast<int>(std::lround(double(i) * (frames - 2) / (pairs - 1)));
-    first[i] = t == previous + 1 ? second[i - 1] : luma(frame(t));
-    second[i] = luma(frame(t + 1));
-    previous = t;
-    if (first[i].width != second[i].width || first[i].height != second[i].height || first[i].v.empty())
-      throw Error("dominant_motion: frames " + std::to_string(t) + " and " + std::to_string(t + 1) +
-                  " differ in size");
-  }
+  // Pairs are matched a few at a time (one a thread), so that the planes
+  // held are those of a batch, not of every pair.
+  const int batch = static_cast<int>(std::max<std::size_t>(
+      1, std::min<std::size_t>(tbb::this_task_arena::max_concurrency(),
+                               tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism))));
   std::vector<PairMotion> motion(pairs);
-  tbb::parallel_for(0, pairs, [&](int i) { motion[i] = pair_motion(first[i], second[i], options); });
+  Plane last_read;    // the second frame of the batch before
+  int previous = -2;  // the frame before the last one read
+  for (int i0 = 0; i0 < pairs; i0 += batch) {
+    const int count = std::min(batch, pairs - i0);
+    std::vector<Plane> first(count), second(count);
+    for (int k = 0; k < count; ++k) {
+      // Evenly spaced, at least a frame apart: the frames come in order.
+      const int i = i0 + k;
+      const int t = pairs == 1 ? 0 : static_cast<int>(std::lround(double(i) * (frames - 2) / (pairs - 1)));
+      first[k] = t != previous + 1 ? luma(frame(t)) : k > 0 ? second[k - 1] : std::move(last_read);
+      second[k] = luma(frame(t + 1));
+      previous = t;
+      if (first[k].width != second[k].width || first[k].height != second[k].height || first[k].v.empty())
+        throw Error("dominant_motion: frames " + std::to_string(t) + " and " + std::to_string(t + 1) +
+                    " differ in size");
+    }
+    tbb::parallel_for(0, count, [&](int k) { motion[i0 + k] = pair_motion(first[k], second[k], options); });
+    last_read = std::move(second[count - 1]);
+  }
   std::vector<double> dx, dy;
   for (const PairMotion& m : motion) dx.push_back(m.dx), dy.push_back(m.dy);
   result.pairs = pairs;

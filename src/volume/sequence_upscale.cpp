@@ -27,7 +27,10 @@ void set_motion(SequenceUpscaleOptions& options, const std::string& text) {
       std::abs(dx) > 1000 || std::abs(dy) > 1000)
     throw Error("--motion must be auto, off or DX,DY (pixels a frame, at most 1000), not '" + text + "'");
   options.shear_dominant_motion = false;
-  options.volume.time_shear = {dx, dy};
+  // To 1/8 pixel, as the estimate is: the sheared positions are then exact
+  // in doubles wherever a tile's frames start, so exact tiles stay the
+  // untiled result bit for bit (a shear of 0.3 rounds differently per tile).
+  options.volume.time_shear = {std::round(dx * 8) / 8, std::round(dy * 8) / 8};
 }
 
 std::string motion_text(const SequenceUpscaleOptions& options) {

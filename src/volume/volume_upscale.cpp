@@ -93,8 +93,12 @@ void keep_slow_texture(const GridProblem<3>& grid, std::vector<char>& slow, core
 // The Delaunay triangulation of the grid's samples sheared by (dx, dy) a
 // frame (x - dx t, y - dy t, t), over the unsheared positions: a shear is
 // affine with determinant 1, so every cell keeps its orientation and the
-// cells still tile the samples' hull (the box).
-core::SimplexMesh<3> sheared_delaunay(const std::array<int, 3>& size, const std::array<double, 2>& shear) {
+// cells still tile the samples' hull (the box). The shear is taken to 1/8
+// pixel, so the sheared positions are exact in doubles and a tile's mesh,
+// whose frames count from its own first one, is the whole volume's
+// translated (exact tiles).
+core::SimplexMesh<3> sheared_delaunay(const std::array<int, 3>& size, const std::array<double, 2>& given_shear) {
+  const std::array<double, 2> shear{std::round(given_shear[0] * 8) / 8, std::round(given_shear[1] * 8) / 8};
   std::vector<core::Vec<3>> points;
   points.reserve(static_cast<std::size_t>(size[0]) * size[1] * size[2]);
   for (int t = 0; t < size[2]; ++t)

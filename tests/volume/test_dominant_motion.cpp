@@ -141,6 +141,8 @@ TEST_CASE("set_motion: auto, off, DX,DY; anything else refused") {
   CHECK_FALSE(o.shear_dominant_motion);
   CHECK(o.volume.time_shear == std::array<double, 2>{-2.5, 1});
   CHECK(motion_text(o) == "-2.5,1");
+  set_motion(o, "0.3,-0.7");  // to 1/8 pixel, as the estimate
+  CHECK(o.volume.time_shear == std::array<double, 2>{0.25, -0.75});
   set_motion(o, "off");
   CHECK(motion_text(o) == "off");
   set_motion(o, "auto");
