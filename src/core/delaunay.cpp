@@ -3,10 +3,9 @@
 
 #include "core/predicates.hpp"
 #include "util/error.hpp"
+#include "util/thread_limit.hpp"
 
-#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <CGAL/Delaunay_triangulation.h>
 #include <CGAL/Delaunay_triangulation_2.h>
@@ -196,11 +195,7 @@ bool layered_delaunay(const std::vector<Vec<3>>& points, index_t layer_size, Sim
   const std::size_t expected = 4 * std::size_t(7) * static_cast<std::size_t>(layer_size) * slabs;  // ~6 cells a sample
   glued.cell.reserve(expected);
   glued.opp.reserve(expected);
-  // The threads allowed (--threads sets a global_control, which the arena's
-  // concurrency does not show).
-  const index_t batch = static_cast<index_t>(std::max<std::size_t>(
-      1, std::min<std::size_t>(tbb::this_task_arena::max_concurrency(),
-                               tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism))));
+  const index_t batch = allowed_threads();
   std::vector<std::pair<Triple, index_t>> previous_top;  // in glued's facet ids
   for (index_t s0 = 0; s0 < slabs; s0 += batch) {
     const index_t count = std::min(batch, slabs - s0);

@@ -116,8 +116,7 @@ double edge_cost(const Mesh2& mesh, const std::vector<float>& values, const Cost
       const double n2 = t.grad[k][0] * t.grad[k][0] + t.grad[k][1] * t.grad[k][1];
       *noise += std::sqrt(n1 * n2) * weight;
     }
-  if (cost.form == CostForm::facet_weighted_content) c *= weight;
-  return c;
+  return c * weight;
 }
 
 double simplex_cost(const CostFunction& cost, const std::vector<float>& values, int K, const Point2* const p[3],

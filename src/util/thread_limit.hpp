@@ -16,4 +16,9 @@ int usable_threads(int requested);
 // limit) when requested <= 0.
 std::unique_ptr<tbb::global_control> limit_threads(int requested);
 
+// The threads a parallel loop may use here and now: the arena's
+// concurrency, capped by an active limit_threads (a global_control, which
+// the arena's concurrency does not show). At least 1.
+int allowed_threads();
+
 }  // namespace ddt

@@ -1,10 +1,9 @@
 #include "volume/dominant_motion.hpp"
 
 #include "util/error.hpp"
+#include "util/thread_limit.hpp"
 
-#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
@@ -138,9 +137,7 @@ DominantMotion dominant_motion(int frames, const std::function<Image(int)>& fram
   const int pairs = std::min(options.max_pairs, frames - 1);
   // Pairs are matched a few at a time (one a thread), so that the planes
   // held are those of a batch, not of every pair.
-  const int batch = static_cast<int>(std::max<std::size_t>(
-      1, std::min<std::size_t>(tbb::this_task_arena::max_concurrency(),
-                               tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism))));
+  const int batch = allowed_threads();
   std::vector<PairMotion> motion(pairs);
   Plane last_read;    // the second frame of the batch before
   int previous = -2;  // the frame before the last one read
@@ -172,8 +169,8 @@ DominantMotion dominant_motion(int frames, const std::function<Image(int)>& fram
   const bool moving = std::max(std::abs(result.median_dx), std::abs(result.median_dy)) > options.min_shift;
   if (moving && result.agreeing >= options.min_agreeing_share * pairs) {
     result.found = true;
-    result.dx = std::round(result.median_dx * 8) / 8;
-    result.dy = std::round(result.median_dy * 8) / 8;
+    result.dx = to_eighth_pixel(result.median_dx);
+    result.dy = to_eighth_pixel(result.median_dy);
   }
   return result;
 }

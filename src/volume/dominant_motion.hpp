@@ -39,9 +39,15 @@
 
 #include "util/image.hpp"
 
+#include <cmath>
 #include <functional>
 
 namespace ddt {
+
+// A shift a frame to 1/8 pixel: the estimate's result, a given --motion and
+// the shear the mesh is built with (volume_upscale.cpp), whose sheared
+// positions are then exact in doubles at every frame.
+inline double to_eighth_pixel(double shift) { return std::round(shift * 8) / 8; }
 
 struct DominantMotionOptions {
   int max_pairs = 16;

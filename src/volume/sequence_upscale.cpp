@@ -30,7 +30,7 @@ void set_motion(SequenceUpscaleOptions& options, const std::string& text) {
   // To 1/8 pixel, as the estimate is: the sheared positions are then exact
   // in doubles wherever a tile's frames start, so exact tiles stay the
   // untiled result bit for bit (a shear of 0.3 rounds differently per tile).
-  options.volume.time_shear = {std::round(dx * 8) / 8, std::round(dy * 8) / 8};
+  options.volume.time_shear = {to_eighth_pixel(dx), to_eighth_pixel(dy)};
 }
 
 std::string motion_text(const SequenceUpscaleOptions& options) {

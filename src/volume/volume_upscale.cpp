@@ -8,6 +8,7 @@
 #include "pipeline/upscale.hpp"
 #include "eval/volume_resample.hpp"
 #include "image/cubic_surface.hpp"
+#include "volume/dominant_motion.hpp"
 #include "volume/presmooth.hpp"
 #include "volume/slow_texture.hpp"
 #include "volume/volume_tiles.hpp"
@@ -98,7 +99,7 @@ void keep_slow_texture(const GridProblem<3>& grid, std::vector<char>& slow, core
 // whose frames count from its own first one, is the whole volume's
 // translated (exact tiles).
 core::SimplexMesh<3> sheared_delaunay(const std::array<int, 3>& size, const std::array<double, 2>& given_shear) {
-  const std::array<double, 2> shear{std::round(given_shear[0] * 8) / 8, std::round(given_shear[1] * 8) / 8};
+  const std::array<double, 2> shear{to_eighth_pixel(given_shear[0]), to_eighth_pixel(given_shear[1])};
   std::vector<core::Vec<3>> points;
   points.reserve(static_cast<std::size_t>(size[0]) * size[1] * size[2]);
   for (int t = 0; t < size[2]; ++t)
