@@ -27,6 +27,11 @@ double hydrogen(double x, double y, double z) {
   return angular * angular * std::exp(-2.0 * r / 3.0) / peak;
 }
 
+double moving_sphere_distance(double x, double y, double z, double t) {
+  const double dx = x - (0.3 + 0.4 * t), dy = y - (0.45 + 0.1 * t), dz = z - 0.5;
+  return std::sqrt(dx * dx + dy * dy + dz * dz) - (0.15 + 0.1 * t);
+}
+
 double moving_sphere(double x, double y, double z, double t) {
   const double dx = x - (0.3 + 0.4 * t), dy = y - (0.45 + 0.1 * t), dz = z - 0.5;
   const double r = 0.15 + 0.1 * t;
@@ -39,7 +44,7 @@ const std::vector<VolumeSeriesField>& volume_series_fields() {
   static const std::vector<VolumeSeriesField> fields = {
       {"moving-sphere",
        "solid ball, centre (0.3, 0.45, 0.5) -> (0.7, 0.55, 0.5), radius 0.15 -> 0.25 as t goes 0 -> 1; 1 inside",
-       &moving_sphere, 0.5},
+       &moving_sphere, 0.5, &moving_sphere_distance},
   };
   return fields;
 }

@@ -65,6 +65,9 @@ struct VolumeSeriesField {
   std::string description;
   std::function<double(double x, double y, double z, double t)> value;
   double iso_level = 0.5;
+  // Signed distance to the true surface of iso_level (negative inside),
+  // for isosurface_error.hpp; null when not known.
+  std::function<double(double x, double y, double z, double t)> surface_distance;
 };
 
 const std::vector<VolumeSeriesField>& volume_series_fields();  // moving-sphere

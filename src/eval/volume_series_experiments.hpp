@@ -5,7 +5,12 @@
 // become (steps - 1) * time_scale + 1, every input step kept), and compared
 // with the field sampled at the output's size and instants: RMSE and PSNR
 // (peak 1) over all samples of all steps, and over the made steps only
-// (those between input steps, where time is really interpolated).
+// (those between input steps, where time is really interpolated). And,
+// for a field with a known surface, how far each method's isosurface of the
+// field's level lies from the true one over the made steps
+// (isosurface_error.hpp: RMS and 99th percentile in output voxels, and the
+// crossings found against the true count); then the first row is the
+// field itself sampled as the output is (the metric's floor; no RMSE).
 //
 // Sampling as the 3D experiments (volume_experiments.hpp): space is
 // box-filtered, input_ss^3 point samples per input voxel and reference_ss^3
@@ -53,6 +58,11 @@ struct VolumeSeriesExperimentRow {
   double rmse = 0;
   double psnr = 0;
   double psnr_made = 0;  // over the output steps between input steps
+  // Isosurface of the field's level over the made steps (0 when the field
+  // has no known surface).
+  double iso_rms = 0, iso_p99 = 0;  // output voxels
+  double iso_rms_kept = 0;           // the same over the kept (input) steps
+  long long iso_crossings = 0, iso_true_crossings = 0;
   double seconds = 0;
   long long flips = 0;
   long long simplices = 0;

@@ -173,12 +173,22 @@ TEST_CASE("upscale_volume (series): DDT beats quadrilinear on the moving sphere 
   o.size = 10;
   o.steps = 6;
   o.methods = {"quadrilinear", "ddt"};
-  const auto rows = run_volume_series_experiment(o);
-  REQUIRE(rows.size() == 2);
+  const auto all = run_volume_series_experiment(o);
+  REQUIRE(all.size() == 3);  // the reference's isosurface first
+  const auto& reference = all[0];
+  const std::vector<VolumeSeriesExperimentRow> rows(all.begin() + 1, all.end());
   MESSAGE("moving sphere 10^3 x 6, x2 x4: quadrilinear " << rows[0].psnr << " dB, ddt " << rows[1].psnr << " dB");
   CHECK(rows[1].flips > 0);
   CHECK(rows[1].psnr > rows[0].psnr + 1.0);
   CHECK(rows[1].psnr_made > rows[0].psnr_made);
+  // The isosurface is scored on the made steps: the count of true
+  // crossings is the same for every row, the floor's surface the closest.
+  CHECK(reference.iso_true_crossings > 0);
+  for (const auto& r : rows) {
+    CHECK(r.iso_true_crossings == reference.iso_true_crossings);
+    CHECK(r.iso_crossings > r.iso_true_crossings / 2);
+    CHECK(r.iso_rms > reference.iso_rms);
+  }
 }
 
 TEST_CASE("upscale_volume (series): axes of one sample are dropped and the result repeated along them") {
