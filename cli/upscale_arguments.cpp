@@ -101,6 +101,21 @@ UpscaleCommandLine parse_upscale_command_line(int argc, const char* const* argv)
                  "where the format allows (same output, less memory; default: only when the job would not fit "
                  "in memory; -1: never)")
       ->check(whole_number(-1, std::numeric_limits<int>::max()));
+  app.add_option("--max-memory", args.max_memory,
+                 "the most memory the job may hold (e.g. 2G, 512M): a larger job is read, enlarged and written "
+                 "by bands of rows sized to fit (the same output, slower: the bands' margins are redone), or "
+                 "refused with the size to give (default: bands only when the job would not fit in the memory "
+                 "available)")
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            try {
+              ddt::parse_memory_size(text);
+              return std::string();
+            } catch (const std::exception& e) {
+              return std::string(e.what());
+            }
+          },
+          "SIZE"));
   add_batch_options(app, line.batch);
   add_output_options(app, line.args.writing);
   app.footer(
@@ -185,6 +200,7 @@ ddt::UpscaleOptions upscale_options(const UpscaleArguments& args) {
   options.optimizer = ddt::optimizer_by_name(args.optimizer);
   options.anneal = args.anneal;
   options.tile_rows = args.tile_rows;
+  options.max_memory = args.max_memory.empty() ? 0 : ddt::parse_memory_size(args.max_memory);
   return options;
 }
 

@@ -4,6 +4,7 @@
 #include "core/costs.hpp"
 #include "image/cubic_surface.hpp"
 #include "util/error.hpp"
+#include "util/size_limits.hpp"
 #include "image/optimizer_choice.hpp"
 
 #include <pybind11/stl.h>
@@ -119,6 +120,7 @@ py::dict image_defaults() {
   d["quiet"] = c.quiet;
   d["threads"] = c.threads;
   d["tile_rows"] = c.options.tile_rows;
+  d["max_memory"] = py::none();  // bytes (int) or a size ("2G"); None: automatic
   // The library's, beyond the command line: an array has no alpha flag.
   d["alpha_channel"] = c.options.alpha_channel;
   d["region_rows"] = c.options.region_rows;
@@ -161,6 +163,15 @@ ImageCall image_call(const py::dict& kwargs) {
   k.get("threads", c.threads);
   check_threads(c.threads);
   k.get("tile_rows", o.tile_rows);
+  if (kwargs.contains("max_memory") && !kwargs["max_memory"].is_none()) {
+    const py::handle size = kwargs["max_memory"];
+    if (py::isinstance<py::str>(size)) {
+      o.max_memory = ddt::parse_memory_size(size.cast<std::string>());
+    } else {
+      k.get("max_memory", o.max_memory);
+      if (o.max_memory <= 0) throw ddt::Error("--max-memory must be positive");
+    }
+  }
   k.get("alpha_channel", o.alpha_channel);
   k.get("region_rows", o.region_rows);
   return c;

@@ -31,12 +31,6 @@ InputStatistics statistics_of(const RowSource& source, Progress* progress) {
   return all;
 }
 
-int band_margin(int width, int height, int out_width, int out_height, const UpscaleOptions& options) {
-  return planned_band_margin(optimizer_region_rows(width, height, options),
-                             is_consistent(width, height, out_width, out_height, options.model), options.model, width,
-                             height, out_width, out_height);
-}
-
 // A band's output rows to the receiver: whole, or in parts of
 // options.output_band_rows rows where that is set.
 void hand_out(Image rows, int first_row, const UpscaleOptions& options) {
@@ -52,6 +46,12 @@ void hand_out(Image rows, int first_row, const UpscaleOptions& options) {
 }
 
 }  // namespace
+
+int band_margin(int width, int height, int out_width, int out_height, const UpscaleOptions& options) {
+  return planned_band_margin(optimizer_region_rows(width, height, options),
+                             is_consistent(width, height, out_width, out_height, options.model), options.model, width,
+                             height, out_width, out_height);
+}
 
 // Measured at x2 and x4 on RGB (docs/performance.md): per input pixel of
 // the band and its margins the mesh, the optimizer's arrays and the

@@ -30,6 +30,9 @@ struct RowSource {
   std::function<void(int first, int end, float* rows)> read;
 };
 
+// The rows of margin a band needs each side (the optimizer's regions and
+// the consistent reconstruction's reach).
+int band_margin(int width, int height, int out_width, int out_height, const UpscaleOptions& options);
 // The bytes a band of `rows` input rows with `margin` rows each side holds.
 double banded_bytes(int width, int height, int channels, int out_width, int out_height, double rows, double margin);
 // The input rows per band that fit, with their margins, a memory budget of

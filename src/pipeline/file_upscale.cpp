@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <memory>
 #include <optional>
 
@@ -72,6 +73,27 @@ double upscale_job_bytes(int width, int height, int channels, int out_width, int
   return images + (tiled ? std::min(mesh, 0.5 * double(physical_memory())) : mesh);
 }
 
+namespace {
+
+// Under --max-memory the estimates are held to this share of the limit:
+// measured peaks ran up to 17 % above the band model (docs/performance.md).
+constexpr double band_share = 0.85;
+
+std::string megabytes(double bytes) {
+  return std::to_string(static_cast<long long>(std::ceil(bytes / 1048576.0))) + "M";
+}
+
+// Why a job is not read by bands (can_upscale_by_bands is false, or the
+// output is not streamed).
+std::string why_not_banded(const UpscaleOptions& options, bool streamed) {
+  if (!streamed) return "--no-stream holds the whole output";
+  if (options.optimizer != Optimizer::lawson) return "bands need --optimizer lawson";
+  if (options.tile_rows < 0) return "--tile-rows -1";
+  return "the image is a single region of the optimizer";
+}
+
+}  // namespace
+
 bool can_upscale_by_bands(int width, int height, const UpscaleOptions& options) {
   return options.optimizer == Optimizer::lawson && options.tile_rows >= 0 &&
          optimizer_region_rows(width, height, options) > 0;
@@ -94,8 +116,24 @@ FileUpscaleResult upscale_file(FileUpscaleJob job) {
                            header.alpha_channel, job.encode);
       const double whole = upscale_job_bytes(header.width, header.height, header.channels, result.width,
                                              result.height, options, job.stream);
-      banded = job.stream && can_upscale_by_bands(header.width, header.height, options) &&
-               (options.tile_rows > 0 || whole > 0.9 * double(available_memory()));
+      const bool can_band = job.stream && can_upscale_by_bands(header.width, header.height, options);
+      if (options.max_memory > 0) {
+        const double resident = double(resident_memory());
+        const double limit = band_share * (double(options.max_memory) - resident);
+        double least = whole;  // the least the job can hold: whole, or in the smallest bands
+        if (can_band) {
+          const int margin = band_margin(header.width, header.height, result.width, result.height, options);
+          least = std::min(least, banded_bytes(header.width, header.height, header.channels, result.width,
+                                               result.height, std::min(header.height, 256), margin));
+        }
+        banded = can_band && (options.tile_rows > 0 || whole > limit);
+        if (options.tile_rows <= 0 && least > limit)
+          throw Error("this job needs about " + megabytes(least / band_share + resident) +
+                      (can_band ? "" : " (it cannot run in bands: " + why_not_banded(options, job.stream) + ")") +
+                      "; give --max-memory " + megabytes(least / band_share + resident) + " or more");
+      } else {
+        banded = can_band && (options.tile_rows > 0 || whole > 0.9 * double(available_memory()));
+      }
       if (!banded) check_memory_fits("this job", whole);
     } catch (const Error& e) {
       job_error = e;
@@ -120,10 +158,12 @@ FileUpscaleResult upscale_file(FileUpscaleJob job) {
     const OIIO::ParamValueList metadata = scaled_metadata(reader->file().metadata, double(result.width) / header.width,
                                                           double(result.height) / header.height);
     writer = stream_into(job, result, options, header.channels, header.format, header.alpha_channel, metadata);
+    const double budget = options.max_memory > 0
+                              ? band_share * (double(options.max_memory) - double(resident_memory()))
+                              : 0.5 * double(available_memory());
     const int band_rows = options.tile_rows > 0 ? options.tile_rows
                                                 : banded_rows(header.width, header.height, header.channels,
-                                                              result.width, result.height, options,
-                                                              0.5 * double(available_memory()));
+                                                              result.width, result.height, options, budget);
     log_line(options, "read by bands of " + std::to_string(band_rows) + " rows: " + job.input + ", " +
                           std::to_string(header.width) + "x" + std::to_string(header.height) + "x" +
                           std::to_string(header.channels));

@@ -2,6 +2,8 @@
 
 #include "util/error.hpp"
 
+#include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <limits>
@@ -25,6 +27,43 @@ long long available_memory() {
     meminfo.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
   }
   return physical_memory();
+}
+
+long long resident_memory() {
+  std::ifstream statm("/proc/self/statm");
+  long long size = 0, resident = 0;
+  if (!(statm >> size >> resident)) return 0;
+  const long page = ::sysconf(_SC_PAGE_SIZE);
+  return page > 0 ? resident * page : 0;
+}
+
+long long parse_memory_size(const std::string& text) {
+  const auto bad = [&] {
+    return Error("'" + text + "' is not a memory size: give bytes, or a number with K, M, G or T (e.g. 2G)");
+  };
+  std::size_t used = 0;
+  double number = 0;
+  try {
+    if (text.empty() || !(std::isdigit(static_cast<unsigned char>(text[0])) || text[0] == '.')) throw bad();
+    number = std::stod(text, &used);
+  } catch (const std::exception&) {
+    throw bad();
+  }
+  std::string unit = text.substr(used);
+  for (char& c : unit) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  if (unit.size() > 1 && unit.back() == 'B') unit.pop_back();
+  if (unit.size() > 1 && unit.back() == 'I') unit.pop_back();
+  const std::string units = "KMGT";
+  double bytes = number;
+  if (unit == "B" || unit.empty()) {
+    if (unit.empty() && number != std::floor(number)) throw bad();
+  } else if (unit.size() == 1 && units.find(unit[0]) != std::string::npos) {
+    bytes = std::ldexp(number, 10 * static_cast<int>(units.find(unit[0]) + 1));
+  } else {
+    throw bad();
+  }
+  if (!(bytes >= 1) || bytes > std::ldexp(1.0, 62)) throw bad();
+  return static_cast<long long>(bytes);
 }
 
 long long default_max_input_pixels() { return physical_memory() / 32; }

@@ -22,6 +22,15 @@ namespace ddt {
 // MemAvailable; the physical memory where it cannot be read).
 long long physical_memory();
 long long available_memory();
+// Bytes of this process resident now (Linux's /proc/self/statm; 0 where
+// it cannot be read): the libraries' pages and what the job holds so far.
+long long resident_memory();
+
+// A memory size as a user writes it: bytes ("1500000000"), or a number
+// with K, M, G or T (powers of 1024; "2G", "512M", "1.5G"; an optional
+// trailing B or iB). Throws ddt::Error for anything else, 0 or negative
+// sizes, or more than 2^62 bytes.
+long long parse_memory_size(const std::string& text);
 
 // The input limits' defaults, sized to the machine's physical memory:
 //   pixels: memory / 32, so the decoded input (up to 4 float channels,

@@ -276,6 +276,10 @@ def test_upscale_file_reads_by_bands_to_the_same_bits(tmp_path, capfd, model):
                                  **options) == (1024, 384)
     assert "read by bands of 128 rows" in capfd.readouterr().err
     np.testing.assert_array_equal(_read_ppm(tmp_path / "b.ppm"), ddtscale.upscale(image, 2, tile_rows=-1, **options))
+    # A limit the whole job fits: not banded, the same bits.
+    ddtscale.upscale_file(tmp_path / "in.ppm", tmp_path / "m.ppm", 2, max_memory=1 << 40, verbose=True, **options)
+    assert "read by bands" not in capfd.readouterr().err
+    np.testing.assert_array_equal(_read_ppm(tmp_path / "m.ppm"), _read_ppm(tmp_path / "b.ppm"))
 
 
 def test_upscale_file_takes_the_command_lines_file_options(textured, tmp_path):
@@ -292,7 +296,9 @@ def test_upscale_file_takes_the_command_lines_file_options(textured, tmp_path):
     for options, message in [(dict(quality=0), "--quality"), (dict(compression="zip"), "--compression"),
                              (dict(half=True, float=True), "--half"), (dict(tile_size=8), "--tile-size"),
                              (dict(compare="bicubic"), "unknown option 'compare'"),
-                             (dict(max_input_pixels=100), "--max-input-pixels")]:
+                             (dict(max_input_pixels=100), "--max-input-pixels"),
+                             (dict(max_memory="10M"), "give --max-memory"),
+                             (dict(max_memory="2Q"), "not a memory size"), (dict(max_memory=-5), "--max-memory")]:
         with pytest.raises((ValueError, OSError), match=message):
             ddtscale.upscale_file(tmp_path / "in.ppm", tmp_path / "bad.png", 2, **options)
         assert not (tmp_path / "bad.png").exists()

@@ -44,6 +44,22 @@ TEST_CASE("memory: physical and available are positive, a job past them is refus
   CHECK(default_max_input_voxels() == physical_memory() / 1024);
 }
 
+TEST_CASE("parse_memory_size: bytes and K, M, G, T in powers of 1024; one-line errors for the rest") {
+  CHECK(parse_memory_size("1500000000") == 1500000000LL);
+  CHECK(parse_memory_size("512M") == 512LL << 20);
+  CHECK(parse_memory_size("2G") == 2LL << 30);
+  CHECK(parse_memory_size("2g") == 2LL << 30);
+  CHECK(parse_memory_size("2GB") == 2LL << 30);
+  CHECK(parse_memory_size("2GiB") == 2LL << 30);
+  CHECK(parse_memory_size("1.5G") == 3LL << 29);
+  CHECK(parse_memory_size("64K") == 65536);
+  CHECK(parse_memory_size("1T") == 1LL << 40);
+  CHECK(parse_memory_size("100B") == 100);
+  for (const char* bad : {"", "x", "0", "-1", "1.5", "2Q", "G", "2 G", "1e30", "nan", "inf", "2GG", "9999999T"})
+    CHECK_THROWS_WITH_AS(parse_memory_size(bad), doctest::Contains("is not a memory size"), Error);
+  CHECK(resident_memory() > 0);
+}
+
 TEST_CASE("read_image: the header's size is checked against the limit before the pixels, then the check sees it") {
   TempDir dir;
   Image image(40, 30, 3, 0.25f);
