@@ -102,10 +102,10 @@ UpscaleCommandLine parse_upscale_command_line(int argc, const char* const* argv)
                  "in memory; -1: never)")
       ->check(whole_number(-1, std::numeric_limits<int>::max()));
   app.add_option("--max-memory", args.max_memory,
-                 "the most memory the job may hold (e.g. 2G, 512M): a larger job is read, enlarged and written "
-                 "by bands of rows sized to fit (the same output, slower: the bands' margins are redone), or "
-                 "refused with the size to give (default: bands only when the job would not fit in the memory "
-                 "available)")
+                 "memory target of the job (e.g. 2G, 512M): a larger job is read, enlarged and written by "
+                 "bands of rows sized by a memory model to fit (the same output, slower: the bands' margins are "
+                 "redone; a target, not a hard cap), or refused with the size to give (default: bands only when "
+                 "the job would not fit in the memory available)")
       ->check(CLI::Validator(
           [](std::string& text) {
             try {

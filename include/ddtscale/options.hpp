@@ -127,10 +127,11 @@ struct UpscaleOptions {
   // consistent model the margins also cover the reconstruction's reach
   // (consistent_reconstruction.hpp).
   int tile_rows = 0;
-  // The most memory the job may hold, in bytes (the process's resident
-  // pages included): tiles, and for files the bands read and written
-  // (upscale_file), are sized to stay under it, and a job that cannot is
-  // refused with the size to give. 0: automatic (tiles past half the
+  // A memory target for the job, in bytes (the process's resident pages
+  // included): tiles, and for files the bands read and written
+  // (upscale_file), are sized by a memory model to stay under it (not a
+  // hard cap: docs/performance.md), and a job that cannot is refused with
+  // the size to give. 0: automatic (tiles past half the
   // physical memory, bands past what is available).
   long long max_memory = 0;
   Progress* progress = nullptr;     // stages and work done, for a progress bar; may be null
