@@ -55,13 +55,13 @@ int band_margin(int width, int height, int out_width, int out_height, const Upsc
 
 // Measured at x2 and x4 on RGB (docs/performance.md): per input pixel of
 // the band and its margins the mesh, the optimizer's arrays and the
-// reconstruction's vectors (about 100 + 20 C bytes) and the float output
+// reconstruction's vectors (about 140 + 20 C bytes, writing EXR) and the float output
 // drawn for it; per input pixel of the band's own rows that output again,
 // queued for the encoder.
 double banded_bytes(int width, int height, int channels, int out_width, int out_height, double rows, double margin) {
   const double output_per_pixel =
       4.0 * channels * (static_cast<double>(out_width) / width) * (static_cast<double>(out_height) / height);
-  return width * ((100.0 + 20.0 * channels + output_per_pixel) * std::min<double>(height, rows + 2 * margin) +
+  return width * ((140.0 + 20.0 * channels + output_per_pixel) * std::min<double>(height, rows + 2 * margin) +
                   output_per_pixel * rows);
 }
 
