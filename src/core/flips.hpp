@@ -84,6 +84,8 @@ struct FlipPlan {
   int removed_count = 0;
   std::array<index_t, max_flip_cells<D>> removed;
   int inserted_count = 0;
+  // Grouped by link: (A u B \ a[j]) u L_l at l * a_count + j, which
+  // apply_flip reads to pair the new cells' facets without a search.
   std::array<CellVertices<D>, max_flip_cells<D>> inserted;
 
   int circuit_dimension() const { return a_count + b_count - 2; }
