@@ -3,6 +3,7 @@
 #include "core/predicates.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <utility>
 
@@ -96,6 +97,9 @@ bool build_plan(const SimplexMesh<D>& mesh, const std::array<index_t, max_flip_c
     if (missing_b[l] != (1u << plan.b_count) - 1) return false;  // T_B * L incomplete: not this flip
   if (plan.a_count * link_count > cap) return false;
 
+  double factorial = 1;  // as simplex_content divides
+  for (int i = 2; i <= D; ++i) factorial *= i;
+  plan.contents_known = lattice;
   plan.link_count = link_count;
   plan.removed_count = star_count;
   for (int s = 0; s < star_count; ++s) plan.removed[s] = star[s];
@@ -108,7 +112,16 @@ bool build_plan(const SimplexMesh<D>& mesh, const std::array<index_t, max_flip_c
         if (j != skip) v[n++] = plan.a[j];
       for (int j = 0; j < plan.b_count; ++j) v[n++] = plan.b[j];
       for (int j = 0; j < link_size; ++j) v[n++] = links[l][j];
-      const int o = orient_ids<D>(mesh.points, v, lattice);
+      int o;
+      if (lattice) {
+        std::array<Vec<D>, D + 1> p;
+        for (int i = 0; i <= D; ++i) p[i] = mesh.points[v[i]];
+        const double det = lattice_det<D>(p);
+        o = (det > 0) - (det < 0);
+        plan.inserted_content[plan.inserted_count] = std::abs(det) / factorial;
+      } else {
+        o = orient_ids<D>(mesh.points, v);
+      }
       if (o == 0) return false;  // unreachable in exact arithmetic: (A, B) is a Radon partition
       if (o < 0) std::swap(v[0], v[1]);
       plan.inserted[plan.inserted_count++] = v;
