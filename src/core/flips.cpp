@@ -3,6 +3,7 @@
 #include "core/predicates.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <utility>
 
@@ -96,6 +97,9 @@ bool build_plan(const SimplexMesh<D>& mesh, const std::array<index_t, max_flip_c
     if (missing_b[l] != (1u << plan.b_count) - 1) return false;  // T_B * L incomplete: not this flip
   if (plan.a_count * link_count > cap) return false;
 
+  double factorial = 1;  // as simplex_content divides
+  for (int i = 2; i <= D; ++i) factorial *= i;
+  plan.contents_known = lattice;
   plan.link_count = link_count;
   plan.removed_count = star_count;
   for (int s = 0; s < star_count; ++s) plan.removed[s] = star[s];
@@ -108,7 +112,16 @@ bool build_plan(const SimplexMesh<D>& mesh, const std::array<index_t, max_flip_c
         if (j != skip) v[n++] = plan.a[j];
       for (int j = 0; j < plan.b_count; ++j) v[n++] = plan.b[j];
       for (int j = 0; j < link_size; ++j) v[n++] = links[l][j];
-      const int o = orient_ids<D>(mesh.points, v, lattice);
+      int o;
+      if (lattice) {
+        std::array<Vec<D>, D + 1> p;
+        for (int i = 0; i <= D; ++i) p[i] = mesh.points[v[i]];
+        const double det = lattice_det<D>(p);
+        o = (det > 0) - (det < 0);
+        plan.inserted_content[plan.inserted_count] = std::abs(det) / factorial;
+      } else {
+        o = orient_ids<D>(mesh.points, v);
+      }
       if (o == 0) return false;  // unreachable in exact arithmetic: (A, B) is a Radon partition
       if (o < 0) std::swap(v[0], v[1]);
       plan.inserted[plan.inserted_count++] = v;
@@ -269,15 +282,35 @@ void apply_flip(SimplexMesh<D>& mesh, const FlipPlan<D>& plan, index_t* new_slot
   std::array<FacetKey<D>, cap*(D + 1)> keys;
   const int n_keys = (D + 1) * plan.inserted_count;
   for (int n = 0; n < n_keys; ++n) keys[n] = facet_key(mesh, (D + 1) * slots[n / (D + 1)] + n % (D + 1));
+  // The vertex x opposite a new cell's facet says where its partner is (by
+  // the order of plan.inserted). x in A: the cell of the same link without
+  // x, across its facet opposite this cell's own missing vertex of A. x in
+  // B: no new cell (every new cell holds all of B), so the old outside
+  // neighbour or the hull. x in a link: another link's cell, found by its
+  // key. A facet is shared by at most two cells, so this finds what a
+  // search of every key would.
   for (int me = 0; me < n_keys; ++me) {
-    const index_t f = (D + 1) * slots[me / (D + 1)] + me % (D + 1);
+    const int k = me / (D + 1);
+    const index_t f = (D + 1) * slots[k] + me % (D + 1);
+    const index_t x = plan.inserted[k][me % (D + 1)];
     index_t target = no_facet;
     bool inner = false;
-    for (int other = 0; other < n_keys && !inner; ++other)
-      if (other / (D + 1) != me / (D + 1) && same_ids(keys[other], keys[me])) {
-        target = (D + 1) * slots[other / (D + 1)] + other % (D + 1);
-        inner = true;
-      }
+    int in_a = 0;
+    while (in_a < plan.a_count && plan.a[in_a] != x) ++in_a;
+    if (in_a < plan.a_count) {
+      const int partner = k - k % plan.a_count + in_a;
+      const index_t missing = plan.a[k % plan.a_count];
+      int i = 0;
+      while (plan.inserted[partner][i] != missing) ++i;
+      target = (D + 1) * slots[partner] + i;
+      inner = true;
+    } else if (!contains(plan.b, plan.b_count, x)) {
+      for (int other = 0; other < n_keys && !inner; ++other)
+        if (other / (D + 1) != k && same_ids(keys[other], keys[me])) {
+          target = (D + 1) * slots[other / (D + 1)] + other % (D + 1);
+          inner = true;
+        }
+    }
     if (!inner)
       for (int o = 0; o < outer_count; ++o)
         if (same_ids(outer[o].key, keys[me])) {

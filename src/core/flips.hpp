@@ -84,7 +84,14 @@ struct FlipPlan {
   int removed_count = 0;
   std::array<index_t, max_flip_cells<D>> removed;
   int inserted_count = 0;
+  // Grouped by link: (A u B \ a[j]) u L_l at l * a_count + j, which
+  // apply_flip reads to pair the new cells' facets without a search.
   std::array<CellVertices<D>, max_flip_cells<D>> inserted;
+  // With ProposalOptions::lattice_exact the inserted cells' contents come
+  // from the orientation tests, exact, so the same numbers simplex_content
+  // gives and the costs need not compute them again.
+  bool contents_known = false;
+  std::array<double, max_flip_cells<D>> inserted_content;
 
   int circuit_dimension() const { return a_count + b_count - 2; }
   bool degenerate() const { return circuit_dimension() < D; }

@@ -22,15 +22,21 @@ struct Context {
   }
 };
 
+// The simplex weight summed over the channels.
 template <int D>
-double simplex_cost(const Context<D>& ctx, const SimplexField<D>& s) {
+double channel_weight(const Context<D>& ctx, const CellVertices<D>& ids) {
   double w = 0;
   for (int k = 0; k < ctx.K; ++k) {
     std::array<double, D + 1> z;
-    for (int i = 0; i <= D; ++i) z[i] = ctx.value(s.ids[i], k);
+    for (int i = 0; i <= D; ++i) z[i] = ctx.value(ids[i], k);
     w += ctx.cost.simplex_weight(z.data(), D + 1);
   }
-  return s.content * w;
+  return w;
+}
+
+template <int D>
+double simplex_cost(const Context<D>& ctx, const SimplexField<D>& s) {
+  return s.content * channel_weight<D>(ctx, s.ids);
 }
 
 template <int D>
@@ -216,8 +222,10 @@ LocalCosts flip_costs(const SimplexMesh<D>& mesh, const float* values, int K, co
                       const FlipPlan<D>& plan, const double* removed_costs, double* inserted_costs) {
   LocalCosts out;
   for (int k = 0; k < plan.removed_count; ++k) out.before += removed_costs[k];
+  const Context<D> ctx{mesh, values, K, cost};
   for (int k = 0; k < plan.inserted_count; ++k) {
-    inserted_costs[k] = cell_cost<D>(mesh, values, K, cost, plan.inserted[k]);
+    inserted_costs[k] = plan.contents_known ? plan.inserted_content[k] * channel_weight<D>(ctx, plan.inserted[k])
+                                            : cell_cost<D>(mesh, values, K, cost, plan.inserted[k]);
     out.after += inserted_costs[k];
   }
   return out;

@@ -118,12 +118,13 @@ inline bool on_lattice(double c, int fraction_bits, double bound) {
   return std::abs(c) < bound && scaled == static_cast<double>(static_cast<long long>(scaled));
 }
 
-// orient<D> by cofactor expansion in plain double (D <= 4): equal to
-// orient<D> when the points satisfy lattice_exact (tested), meaningless
-// otherwise. Inlined: the optimizer calls it for nearly every test.
+// det[p1 - p0, ..., pD - p0] by cofactor expansion in plain double (D <=
+// 4): the exact determinant when the points satisfy lattice_exact (so the
+// same number as any other exact evaluation, e.g. simplex_content's),
+// meaningless otherwise.
 template <int D>
-[[gnu::always_inline]] inline int orient_lattice(const std::array<Vec<D>, D + 1>& p) {
-  static_assert(D >= 1 && D <= 4, "orient_lattice is written out for D <= 4");
+[[gnu::always_inline]] inline double lattice_det(const std::array<Vec<D>, D + 1>& p) {
+  static_assert(D >= 1 && D <= 4, "lattice_det is written out for D <= 4");
   std::array<std::array<double, D>, D> m;
   for (int r = 0; r < D; ++r)
     for (int k = 0; k < D; ++k) m[r][k] = p[r + 1][k] - p[0][k];
@@ -138,6 +139,15 @@ template <int D>
   if constexpr (D == 4)
     det = m[0][0] * det3(1, 2, 3, 1, 2, 3) - m[0][1] * det3(1, 2, 3, 0, 2, 3) + m[0][2] * det3(1, 2, 3, 0, 1, 3) -
           m[0][3] * det3(1, 2, 3, 0, 1, 2);
+  return det;
+}
+
+// orient<D> from lattice_det: equal to orient<D> when the points satisfy
+// lattice_exact (tested). Inlined: the optimizer calls it for nearly every
+// test.
+template <int D>
+[[gnu::always_inline]] inline int orient_lattice(const std::array<Vec<D>, D + 1>& p) {
+  const double det = lattice_det<D>(p);
   return (det > 0) - (det < 0);
 }
 
