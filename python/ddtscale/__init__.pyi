@@ -44,6 +44,7 @@ def upscale(
     quiet: bool = ...,
     threads: int = ...,
     tile_rows: int = ...,
+    max_memory: Union[int, str, None] = ...,
     alpha_channel: int = ...,
     region_rows: int = ...,
 ) -> np.ndarray: ...
