@@ -75,8 +75,9 @@ double upscale_job_bytes(int width, int height, int channels, int out_width, int
 
 namespace {
 
-// Under --max-memory the estimates are held to this share of the limit:
-// measured peaks ran up to 17 % above the band model (docs/performance.md).
+// Under --max-memory the bands are sized for this share of the limit: the
+// band model is a fit, and the allocator's and the encoder's peaks vary
+// (docs/performance.md).
 constexpr double band_share = 0.85;
 
 std::string megabytes(double bytes) {
@@ -126,7 +127,7 @@ FileUpscaleResult upscale_file(FileUpscaleJob job) {
           least = std::min(least, banded_bytes(header.width, header.height, header.channels, result.width,
                                                result.height, std::min(header.height, 256), margin));
         }
-        banded = can_band && (options.tile_rows > 0 || whole > limit);
+        banded = can_band && (options.tile_rows > 0 || whole > std::min(limit, 0.9 * double(available_memory())));
         if (options.tile_rows <= 0 && least > limit)
           throw Error("this job needs about " + megabytes(least / band_share + resident) +
                       (can_band ? "" : " (it cannot run in bands: " + why_not_banded(options, job.stream) + ")") +

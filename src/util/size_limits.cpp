@@ -56,7 +56,7 @@ long long parse_memory_size(const std::string& text) {
   const std::string units = "KMGT";
   double bytes = number;
   if (unit == "B" || unit.empty()) {
-    if (unit.empty() && number != std::floor(number)) throw bad();
+    if (number != std::floor(number)) throw bad();
   } else if (unit.size() == 1 && units.find(unit[0]) != std::string::npos) {
     bytes = std::ldexp(number, 10 * static_cast<int>(units.find(unit[0]) + 1));
   } else {

@@ -55,7 +55,7 @@ TEST_CASE("parse_memory_size: bytes and K, M, G, T in powers of 1024; one-line e
   CHECK(parse_memory_size("64K") == 65536);
   CHECK(parse_memory_size("1T") == 1LL << 40);
   CHECK(parse_memory_size("100B") == 100);
-  for (const char* bad : {"", "x", "0", "-1", "1.5", "2Q", "G", "2 G", "1e30", "nan", "inf", "2GG", "9999999T"})
+  for (const char* bad : {"", "x", "0", "-1", "1.5", "2Q", "G", "2 G", "1.5B", "1e30", "nan", "inf", "2GG", "9999999T"})
     CHECK_THROWS_WITH_AS(parse_memory_size(bad), doctest::Contains("is not a memory size"), Error);
   CHECK(resident_memory() > 0);
 }
