@@ -27,15 +27,24 @@ double hydrogen(double x, double y, double z) {
   return angular * angular * std::exp(-2.0 * r / 3.0) / peak;
 }
 
-double moving_sphere_distance(double x, double y, double z, double t) {
+// The moving sphere at time t: the squared distance of (x, y, z) from its
+// centre, and its radius.
+struct MovingBall {
+  double distance2, radius;
+};
+MovingBall moving_ball(double x, double y, double z, double t) {
   const double dx = x - (0.3 + 0.4 * t), dy = y - (0.45 + 0.1 * t), dz = z - 0.5;
-  return std::sqrt(dx * dx + dy * dy + dz * dz) - (0.15 + 0.1 * t);
+  return {dx * dx + dy * dy + dz * dz, 0.15 + 0.1 * t};
+}
+
+double moving_sphere_distance(double x, double y, double z, double t) {
+  const MovingBall b = moving_ball(x, y, z, t);
+  return std::sqrt(b.distance2) - b.radius;
 }
 
 double moving_sphere(double x, double y, double z, double t) {
-  const double dx = x - (0.3 + 0.4 * t), dy = y - (0.45 + 0.1 * t), dz = z - 0.5;
-  const double r = 0.15 + 0.1 * t;
-  return dx * dx + dy * dy + dz * dz < r * r ? 1.0 : 0.0;
+  const MovingBall b = moving_ball(x, y, z, t);
+  return b.distance2 < b.radius * b.radius ? 1.0 : 0.0;
 }
 
 }  // namespace

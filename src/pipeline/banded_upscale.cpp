@@ -72,7 +72,7 @@ int banded_rows(int width, int height, int channels, int out_width, int out_heig
   const double fixed = banded_bytes(width, height, channels, out_width, out_height, 0, margin);
   const double per_row = banded_bytes(width, height, channels, out_width, out_height, 1, margin) - fixed;
   const double rows = (budget_bytes - fixed) / per_row;
-  return std::clamp(static_cast<int>(std::min<double>(rows, height)), 256, std::max(256, height));
+  return std::clamp(static_cast<int>(std::min<double>(rows, height)), min_band_rows, std::max(min_band_rows, height));
 }
 
 UpscaleStats upscale_banded(const RowSource& source, int out_width, int out_height, const UpscaleOptions& options,

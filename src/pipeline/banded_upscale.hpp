@@ -35,8 +35,11 @@ struct RowSource {
 int band_margin(int width, int height, int out_width, int out_height, const UpscaleOptions& options);
 // The bytes a band of `rows` input rows with `margin` rows each side holds.
 double banded_bytes(int width, int height, int channels, int out_width, int out_height, double rows, double margin);
+// The fewest input rows banded_rows gives a band: its margins are a few
+// hundred rows, so shorter bands would be mostly margin.
+inline constexpr int min_band_rows = 256;
 // The input rows per band that fit, with their margins, a memory budget of
-// `budget_bytes` (at least 256: a band's margins are a few hundred rows).
+// `budget_bytes` (at least min_band_rows).
 int banded_rows(int width, int height, int channels, int out_width, int out_height, const UpscaleOptions& options,
                 double budget_bytes);
 

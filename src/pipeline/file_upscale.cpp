@@ -80,6 +80,12 @@ namespace {
 // (docs/performance.md).
 constexpr double band_share = 0.85;
 
+// The bytes bands may be sized for under --max-memory (> 0): the share of
+// what the limit leaves beside the pages the process holds.
+double limited_band_budget(long long max_memory, double resident) {
+  return band_share * (double(max_memory) - resident);
+}
+
 std::string megabytes(double bytes) {
   return std::to_string(static_cast<long long>(std::ceil(bytes / 1048576.0))) + "M";
 }
@@ -120,18 +126,20 @@ FileUpscaleResult upscale_file(FileUpscaleJob job) {
       const bool can_band = job.stream && can_upscale_by_bands(header.width, header.height, options);
       if (options.max_memory > 0) {
         const double resident = double(resident_memory());
-        const double limit = band_share * (double(options.max_memory) - resident);
+        const double limit = limited_band_budget(options.max_memory, resident);
         double least = whole;  // the least the job can hold: whole, or in the smallest bands
         if (can_band) {
           const int margin = band_margin(header.width, header.height, result.width, result.height, options);
           least = std::min(least, banded_bytes(header.width, header.height, header.channels, result.width,
-                                               result.height, std::min(header.height, 256), margin));
+                                               result.height, std::min(header.height, min_band_rows), margin));
         }
         banded = can_band && (options.tile_rows > 0 || whole > std::min(limit, 0.9 * double(available_memory())));
-        if (options.tile_rows <= 0 && least > limit)
-          throw Error("this job needs about " + megabytes(least / band_share + resident) +
+        if (options.tile_rows <= 0 && least > limit) {
+          const std::string needed = megabytes(least / band_share + resident);  // the limit whose budget holds it
+          throw Error("this job needs about " + needed +
                       (can_band ? "" : " (it cannot run in bands: " + why_not_banded(options, job.stream) + ")") +
-                      "; give --max-memory " + megabytes(least / band_share + resident) + " or more");
+                      "; give --max-memory " + needed + " or more");
+        }
       } else {
         banded = can_band && (options.tile_rows > 0 || whole > 0.9 * double(available_memory()));
       }
@@ -159,9 +167,8 @@ FileUpscaleResult upscale_file(FileUpscaleJob job) {
     const OIIO::ParamValueList metadata = scaled_metadata(reader->file().metadata, double(result.width) / header.width,
                                                           double(result.height) / header.height);
     writer = stream_into(job, result, options, header.channels, header.format, header.alpha_channel, metadata);
-    const double budget = options.max_memory > 0
-                              ? band_share * (double(options.max_memory) - double(resident_memory()))
-                              : 0.5 * double(available_memory());
+    const double budget = options.max_memory > 0 ? limited_band_budget(options.max_memory, double(resident_memory()))
+                                                 : 0.5 * double(available_memory());
     const int band_rows = options.tile_rows > 0 ? options.tile_rows
                                                 : banded_rows(header.width, header.height, header.channels,
                                                               result.width, result.height, options, budget);
