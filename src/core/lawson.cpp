@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cstdint>
 #include <limits>
@@ -49,6 +50,7 @@ struct RegionRun {
   long long tests = 0, deferred_tests = 0;
   double gains = 0;  // in the order of the flips
   int iterations = 0;
+  double work = 0;  // an estimate of the phase's work: the largest regions start first
 };
 
 template <int D>
@@ -114,6 +116,21 @@ class Optimizer {
           return f;
         },
         scan_initial, test, [&](index_t item) { pending_[item] = 0; }, on_iteration);
+  }
+
+  // How far the values of cell c spread (summed over the channels): flat
+  // cells rarely flip, so a region's sum estimates its first phase's work.
+  double spread(index_t c) const {
+    double sum = 0;
+    for (int ch = 0; ch < K_; ++ch) {
+      float lo = z_[static_cast<std::size_t>(mesh_.vertex(c, 0)) * K_ + ch], hi = lo;
+      for (int i = 1; i <= D; ++i) {
+        const float v = z_[static_cast<std::size_t>(mesh_.vertex(c, i)) * K_ + ch];
+        lo = std::min(lo, v), hi = std::max(hi, v);
+      }
+      sum += double(hi) - double(lo);
+    }
+    return sum;
   }
 
   // total_cost; for simplex-weight costs the same sum of the kept terms.
@@ -353,7 +370,11 @@ void run_phases(Optimizer<D>& opt, SimplexMesh<D>& mesh, long long size, const L
       opt.pending_.resize(static_cast<std::size_t>(P) * mesh.slot_count(), 0);
       if (phase == 0) {
         for (index_t c = 0; c < static_cast<index_t>(initial.size()); ++c)
-          if (initial[c]) runs[opt.owner_[c]].cells.push_back(c);
+          if (initial[c]) {
+            RegionRun& run = runs[opt.owner_[c]];
+            run.cells.push_back(c);
+            run.work += opt.spread(c);
+          }
       } else {
         for (index_t item : list) {
           const std::int32_t r = opt.owner_[item / P];
@@ -361,11 +382,26 @@ void run_phases(Optimizer<D>& opt, SimplexMesh<D>& mesh, long long size, const L
           else opt.pending_[item] = 0;  // its cell was removed
         }
         list.clear();
+        for (RegionRun& run : runs) run.work = static_cast<double>(run.items.size());
       }
-      tbb::parallel_for(std::int32_t(0), regions, [&](std::int32_t r) {
-        const ReadScope scope{opt.owner_.data(), r};
-        opt.run_region(runs[r], phase == 0 ? &initial : nullptr, &scope, no_report);
-      });
+      // Regions are independent within a phase, so the order they run in
+      // changes no result. Largest first (by the estimate), each thread
+      // taking the next: on smooth data the work gathers in a few regions,
+      // and in index order one of them was left running alone at the end.
+      std::vector<std::int32_t> order(regions);
+      for (std::int32_t r = 0; r < regions; ++r) order[r] = r;
+      std::stable_sort(order.begin(), order.end(),
+                       [&](std::int32_t a, std::int32_t b) { return runs[a].work > runs[b].work; });
+      std::atomic<std::int32_t> next{0};
+      tbb::parallel_for(
+          std::int32_t(0), regions,
+          [&](std::int32_t) {
+            for (std::int32_t k; (k = next.fetch_add(1)) < regions;) {
+              const ReadScope scope{opt.owner_.data(), order[k]};
+              opt.run_region(runs[order[k]], phase == 0 ? &initial : nullptr, &scope, no_report);
+            }
+          },
+          tbb::simple_partitioner());
       for (RegionRun& run : runs) {
         flips_now += run.flips;
         stats.tests += run.tests;
