@@ -128,7 +128,8 @@ class Optimizer {
         const float v = z_[static_cast<std::size_t>(mesh_.vertex(c, i)) * K_ + ch];
         lo = std::min(lo, v), hi = std::max(hi, v);
       }
-      sum += double(hi) - double(lo);
+      const double d = double(hi) - double(lo);
+      if (d < std::numeric_limits<double>::infinity()) sum += d;  // not NaN or inf: the order sorts on it
     }
     return sum;
   }
