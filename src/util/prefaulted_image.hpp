@@ -17,16 +17,34 @@
 
 namespace ddt {
 
-// Reserves n elements, maps their whole pages in one call, then value-
-// initializes them (zeros written into pages already mapped).
+// Reserves n elements (and `spare` more, unmapped, for the vector to grow
+// into), maps the n's whole pages in one call, then value-initializes them
+// (zeros written into pages already mapped).
 void populate_pages(const void* data, std::size_t bytes);
 template <class T>
-std::vector<T> prefaulted_zeros(std::size_t n) {
+std::vector<T> prefaulted_zeros(std::size_t n, std::size_t spare = 0) {
   std::vector<T> v;
-  v.reserve(n);
+  v.reserve(n + spare);
   populate_pages(v.data(), n * sizeof(T));
   v.resize(n);
   return v;
+}
+
+// v.resize(n, value), with the pages it grows into mapped in one call
+// first, as above: within its capacity the new tail's, else a larger
+// block's, into which v moves.
+template <class T>
+void prefaulted_resize(std::vector<T>& v, std::size_t n, const T& value) {
+  if (n > v.capacity()) {
+    std::vector<T> moved;
+    moved.reserve(n);
+    populate_pages(moved.data(), n * sizeof(T));
+    moved.assign(v.begin(), v.end());
+    v.swap(moved);
+  } else if (n > v.size()) {
+    populate_pages(v.data() + v.size(), (n - v.size()) * sizeof(T));
+  }
+  v.resize(n, value);
 }
 
 Image prefaulted_image(int width, int height, int channels);
