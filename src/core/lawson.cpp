@@ -340,8 +340,8 @@ void run_phases(Optimizer<D>& opt, SimplexMesh<D>& mesh, long long size, const L
       if (phase == 0) stats.regions = regions;
       std::vector<RegionRun> runs(regions);
       // The fresh slots are appended at once, into pages mapped in one call
-      // (page by page, the arrays' growth took phase 0 of 128^3 x4 about
-      // 1.5 s), numbered in the same order as one by one.
+      // (faulting them in one by one was most of phase 0's set-up:
+      // docs/volumes.md), numbered in the same order as one by one.
       const index_t reserve = static_cast<index_t>(std::max<long long>(256, mesh.cell_count() / regions / 8));
       const std::size_t wanted = static_cast<std::size_t>(regions) * reserve;
       const std::size_t fresh = wanted > mesh.free_slots.size() ? wanted - mesh.free_slots.size() : 0;
