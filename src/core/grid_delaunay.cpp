@@ -1,6 +1,7 @@
 #include "core/grid_delaunay.hpp"
 
 #include "core/delaunay.hpp"
+#include "core/lawson.hpp"
 #include "util/error.hpp"
 #include "util/prefaulted_image.hpp"
 
@@ -182,10 +183,7 @@ bool grid_delaunay_cells(const std::array<int, D>& size, std::vector<index_t>& c
   if (slots.cell_count() * (D + 1) > static_cast<std::size_t>(std::numeric_limits<index_t>::max()))
     throw Error("a grid of " + std::to_string(n_points) + " points has too many cells for 32-bit ids");
 
-  // Room to grow into: the Lawson optimizer's first slot pools take about
-  // an eighth of the cells (core/lawson.cpp), and moving the arrays then
-  // would copy them.
-  const std::size_t spare = (D + 1) * (slots.cell_count() / 8 + 4096);
+  const std::size_t spare = (D + 1) * lawson_pool_room(slots.cell_count());  // grid meshes are optimized next
   cell = prefaulted_zeros<index_t>((D + 1) * slots.cell_count(), spare);
   opp = prefaulted_zeros<index_t>((D + 1) * slots.cell_count(), spare);
   tbb::parallel_for(std::size_t(0), slots.lines(), [&](std::size_t line) {

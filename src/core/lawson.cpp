@@ -145,7 +145,7 @@ class Optimizer {
   // computes only the cells a flip would insert.
   void init_cell_costs() {
     if (facet_) return;
-    cell_costs_ = prefaulted_zeros<double>(mesh_.slot_count(), mesh_.slot_count() / 8 + 4096);  // room for the pools
+    cell_costs_ = prefaulted_zeros<double>(mesh_.slot_count(), lawson_pool_room(mesh_.slot_count()));
     tbb::parallel_for(index_t(0), mesh_.slot_count(), [&](index_t c) {
       if (mesh_.is_live(c)) cell_costs_[c] = cell_cost<D>(mesh_, z_, K_, cost_, mesh_.cell_vertices(c));
     });
@@ -342,7 +342,7 @@ void run_phases(Optimizer<D>& opt, SimplexMesh<D>& mesh, long long size, const L
       // The fresh slots are appended at once, into pages mapped in one call
       // (faulting them in one by one was most of phase 0's set-up:
       // docs/volumes.md), numbered in the same order as one by one.
-      const index_t reserve = static_cast<index_t>(std::max<long long>(256, mesh.cell_count() / regions / 8));
+      const index_t reserve = static_cast<index_t>(std::max<long long>(256, mesh.cell_count() / regions / pool_share));
       const std::size_t wanted = static_cast<std::size_t>(regions) * reserve;
       const std::size_t fresh = wanted > mesh.free_slots.size() ? wanted - mesh.free_slots.size() : 0;
       index_t next_fresh = mesh.slot_count();
@@ -356,7 +356,7 @@ void run_phases(Optimizer<D>& opt, SimplexMesh<D>& mesh, long long size, const L
         for (int i = 1; i <= D; ++i) low = std::min(low, mesh.vertex(c, i));
         opt.owner_[c] = band_of(low, size, shift);
       });
-      // Pools: free slots first, then fresh ones; about 1/8 of a band's cells.
+      // Pools: free slots first, then fresh ones (lawson.hpp's pool_share).
       for (std::int32_t r = 0; r < regions; ++r) {
         runs[r].region = r;
         for (index_t k = 0; k < reserve; ++k) {

@@ -57,6 +57,7 @@
 #include "core/local_cost.hpp"
 
 #include <array>
+#include <cstddef>
 #include <functional>
 #include <string>
 #include <vector>
@@ -79,6 +80,13 @@ struct FlipCounts {
 };
 
 inline constexpr long long default_region_cells = 1 << 18;
+// Each region of a parallel phase takes a pool of free slots for the cells
+// its flips add: max(256, its share of the cells / pool_share) of them,
+// fresh ones appended when the mesh has too few free. Room for the first
+// phase's pools, for a mesh of `cells` to reserve when it is made (growing
+// its arrays later would move them):
+inline constexpr long long pool_share = 8;
+inline std::size_t lawson_pool_room(std::size_t cells) { return cells / pool_share + 4096; }
 
 struct LawsonOptions {
   double relative_tolerance = 1e-9;
