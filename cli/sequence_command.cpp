@@ -203,9 +203,11 @@ static int run_sequence_upscale(int argc, char** argv) {
                "along time, as frame blending pairs it: docs/sequences.md, \"Slow texture\")");
   std::string motion = "auto";
   app.add_option("--motion", motion,
-                 "initial mesh: auto (sheared along the frames' dominant motion, a pan or one object moving, when "
-                 "they have one of more than a pixel a frame), off (the pixel lattice's), or DX,DY (sheared by that "
-                 "many pixels a frame, rounded to 1/8); docs/sequences.md, \"Dominant motion\"")
+                 "initial mesh: auto (along the frames' dominant motion when they have one of more than a pixel a "
+                 "frame: a translation, a pan or one object moving, or else a zoom about the centre), off (the pixel "
+                 "lattice's), DX,DY (sheared by that many pixels a frame, rounded to 1/8) or DX,DY,ZOOM (with a "
+                 "zoom by the factor ZOOM a frame about the centre, 0.5 to 2, e.g. 0,0,1.02); docs/sequences.md, "
+                 "\"Dominant motion\" and \"Zoom\"")
       ->capture_default_str();
   app.add_option("--time-tile", options.tile_frames,
                  "input frames reconstructed at once (default: about 4 million input pixels a tile, margins "

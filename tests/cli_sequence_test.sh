@@ -79,7 +79,11 @@ run_ok "motion off" "$work/in/in_%04d.png" "$work/out/m_%04d.png" --time-scale 4
 grep -q "motion:" "$work/err.txt" && bad "--motion off still estimates the motion" || ok
 run_ok "motion given" "$work/in/in_%04d.png" "$work/out/m_%04d.png" --time-scale 4 --motion -3,2
 run_fail "motion bad" "$work/in/in_%04d.png" "$work/out/mb_%04d.png" --time-scale 4 --motion 3
-grep -q "auto, off or DX,DY" "$work/err.txt" && ok || bad "--motion 3: $(cat "$work/err.txt")"
+grep -q "auto, off, DX,DY or DX,DY,ZOOM" "$work/err.txt" && ok || bad "--motion 3: $(cat "$work/err.txt")"
+run_ok "motion zoom given" "$work/in/in_%04d.png" "$work/out/mz_%04d.png" --time-scale 4 --motion -3,2,1.02
+run_fail "motion zoom bad" "$work/in/in_%04d.png" "$work/out/mzb_%04d.png" --time-scale 4 --motion 0,0,3
+grep -q "ZOOM the scale a frame about the centre, 0.5 to 2" "$work/err.txt" && ok || bad "--motion 0,0,3: $(cat "$work/err.txt")"
+[ -e "$work/out/mzb_0000.png" ] && bad "a refused --motion wrote a frame" || ok
 [ "$(count "$work/out" 'mb_*.png')" -eq 0 ] && ok || bad "a refused --motion wrote frames"
 run_ok "help" "$work/in/in_%04d.png" x_%04d.png --help
 grep -q -- "--time-scale" "$work/out.txt" && ok || bad "--help does not describe --time-scale"

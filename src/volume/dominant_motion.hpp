@@ -1,7 +1,9 @@
 #pragma once
 // ddt::dominant_motion — the translation that carries most of an image
 // sequence from one frame to the next (a camera pan, one object moving over
-// a flat background), found by matching whole frames.
+// a flat background), found by matching whole frames; or, where no one
+// translation does, a zoom about the frame's centre with a translation (a
+// camera zooming), found by matching blocks.
 //
 // Why: the space-time mesh starts as the Delaunay triangulation of the
 // sample lattice, which pairs every sample with the same pixel in the next
@@ -32,6 +34,21 @@
 // rounded to 1/8 pixel, so that the mesh does not hang on the estimate's
 // last bits (a whole shift stays whole).
 //
+// The zoom model: frame t + 1 at x + zoom (x - c) + d matches frame t at x
+// (c the frame's centre; x, c in pixels, a pixel's centre at +0.5). Tried
+// only where the whole-frame translation is not found. In each pair whose
+// translation does not explain it, a zoom_blocks x zoom_blocks grid of
+// blocks is matched alone (the same coarse-to-fine search, from the
+// coarsest level where a block is 16 pixels), blocks with too little
+// texture skipped; (zoom, d) is the least-squares fit of the blocks'
+// shifts, fitted again over the blocks within 0.5 pixel of it, and the
+// pair is explained when those are min_agreeing_share of the blocks (at
+// least min_zoom_blocks). The medians of zoom and d are kept when
+// min_agreeing_share of the pairs are explained and within 0.5 pixel of
+// them at the farthest corner, when a corner moves more than min_shift a
+// frame, and when the zoom held over the whole sequence stays within a
+// factor max_total_zoom; zoom is rounded to 2^-16, d to 1/8 pixel.
+//
 // frame(k) gives input frame k (0-based; any channels); the frames of the
 // pairs are asked for in increasing order, each once, so a source that
 // only reads forward (a video) serves them.
@@ -48,20 +65,29 @@ namespace ddt {
 // the shear the mesh is built with (volume_upscale.cpp), whose sheared
 // positions are then exact in doubles at every frame.
 inline double to_eighth_pixel(double shift) { return std::round(shift * 8) / 8; }
+// A zoom a frame (relative, 0.02: 2 % larger a frame) to 2^-16, for the same reason.
+inline double to_zoom_step(double zoom) { return std::round(zoom * 65536) / 65536; }
 
 struct DominantMotionOptions {
   int max_pairs = 16;
   double max_residual_share = 0.5;
   double min_agreeing_share = 0.75;
   double min_shift = 1.0;  // pixels a frame
+  int zoom_blocks = 4;             // blocks a side
+  int min_zoom_blocks = 8;         // with texture, for a fit
+  double min_block_texture = 4e-3;  // mean neighbour difference (1 = the range)
+  double max_total_zoom = 16;
 };
 
 struct DominantMotion {
   double dx = 0, dy = 0;  // pixels a frame (0, 0 when none was found)
+  double zoom = 0;        // relative, a frame, about the frame's centre (0 when none was found)
   bool found = false;
   double median_dx = 0, median_dy = 0;  // the pairs' median, kept or not
   int pairs = 0;                        // frame pairs matched
   int agreeing = 0;                     // of them explained by the median
+  double median_zoom = 0;               // the zoom model's median (when no translation was found)
+  int zoom_agreeing = 0;                // pairs explained by it
 };
 
 DominantMotion dominant_motion(int frames, const std::function<Image(int)>& frame,

@@ -16,29 +16,37 @@ int sequence_tile_frames(int width, int height, int margin_frames) {
 }
 
 void set_motion(SequenceUpscaleOptions& options, const std::string& text) {
+  options.volume.time_shear = {0, 0};
+  options.volume.time_zoom = 0;
   if (text == "auto" || text == "off") {
     options.shear_dominant_motion = text == "auto";
-    options.volume.time_shear = {0, 0};
     return;
   }
-  double dx = 0, dy = 0;
+  double dx = 0, dy = 0, zoom = 1;
   char rest = 0;
-  if (std::sscanf(text.c_str(), "%lf,%lf%c", &dx, &dy, &rest) != 2 || !std::isfinite(dx) || !std::isfinite(dy) ||
-      std::abs(dx) > 1000 || std::abs(dy) > 1000)
-    throw Error("--motion must be auto, off or DX,DY (pixels a frame, at most 1000), not '" + text + "'");
+  const int read = std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &dx, &dy, &zoom, &rest);
+  if ((read != 2 && read != 3) || !std::isfinite(dx) || !std::isfinite(dy) || std::abs(dx) > 1000 ||
+      std::abs(dy) > 1000 || !(zoom >= 0.5 && zoom <= 2))
+    throw Error("--motion must be auto, off, DX,DY or DX,DY,ZOOM (pixels a frame, at most 1000; ZOOM the scale a "
+                "frame about the centre, 0.5 to 2), not '" + text + "'");
   options.shear_dominant_motion = false;
   // To 1/8 pixel, as the estimate is: the sheared positions are then exact
   // in doubles wherever a tile's frames start, so exact tiles stay the
   // untiled result bit for bit (a shear of 0.3 rounds differently per tile).
   options.volume.time_shear = {to_eighth_pixel(dx), to_eighth_pixel(dy)};
+  options.volume.time_zoom = to_zoom_step(zoom - 1);
 }
 
 std::string motion_text(const SequenceUpscaleOptions& options) {
   if (options.shear_dominant_motion) return "auto";
   const auto [dx, dy] = options.volume.time_shear;
-  if (dx == 0 && dy == 0) return "off";
-  char text[80];
-  std::snprintf(text, sizeof text, "%g,%g", dx, dy);
+  const double zoom = options.volume.time_zoom;
+  if (dx == 0 && dy == 0 && zoom == 0) return "off";
+  char text[120];
+  if (zoom == 0)
+    std::snprintf(text, sizeof text, "%g,%g", dx, dy);
+  else
+    std::snprintf(text, sizeof text, "%g,%g,%.17g", dx, dy, 1 + zoom);
   return text;
 }
 
@@ -60,11 +68,18 @@ void upscale_sequence(int frames, int width, int height, int channels, const std
   if (options.shear_dominant_motion && volume.method == VolumeMethod::ddt && frames > 1) {
     motion = dominant_motion(frames, options.motion_frames ? options.motion_frames : read);
     volume.time_shear = {motion.dx, motion.dy};
+    volume.time_zoom = motion.zoom;
     if (volume.log) {
       char line[300];
-      std::snprintf(line, sizeof line, "motion: %d of %d frame pairs agree on (%.2f, %.2f) px a frame: %s",
-                    motion.agreeing, motion.pairs, motion.median_dx, motion.median_dy,
-                    motion.found ? "the mesh starts sheared along it" : "no dominant motion, the lattice's mesh");
+      if (motion.zoom != 0)
+        std::snprintf(line, sizeof line,
+                      "motion: %d of %d frame pairs agree on a zoom of %+.2f %% and (%.2f, %.2f) px a frame: the "
+                      "mesh starts along it",
+                      motion.zoom_agreeing, motion.pairs, 100 * motion.zoom, motion.dx, motion.dy);
+      else
+        std::snprintf(line, sizeof line, "motion: %d of %d frame pairs agree on (%.2f, %.2f) px a frame: %s",
+                      motion.agreeing, motion.pairs, motion.median_dx, motion.median_dy,
+                      motion.found ? "the mesh starts sheared along it" : "no dominant motion, the lattice's mesh");
       volume.log(line);
     }
   }

@@ -143,6 +143,7 @@ void upscale_in_tiles(const std::array<int, 4>& in, const std::array<int, 4>& ou
     // whole output's grid, counted from the part's first input slice.
     o.last_axis.scale = scale;
     o.last_axis.first = g0 - lo * scale;
+    o.time_origin = options.time_origin + lo;
     VolumeUpscaleStats vs;
     const Volume result = upscale_volume(part, part_out, o, &vs);
     local.flips += vs.flips.total() + vs.planar_flips + vs.presmooth_flips;

@@ -91,29 +91,6 @@ void keep_slow_texture(const GridProblem<3>& grid, std::vector<char>& slow, core
   };
 }
 
-// The Delaunay triangulation of the grid's samples sheared by (dx, dy) a
-// frame (x - dx t, y - dy t, t), over the unsheared positions: a shear is
-// affine with determinant 1, so every cell keeps its orientation and the
-// cells still tile the samples' hull (the box). The shear is taken to 1/8
-// pixel, so the sheared positions are exact in doubles and a tile's mesh,
-// whose frames count from its own first one, is the whole volume's
-// translated (exact tiles).
-core::SimplexMesh<3> sheared_delaunay(const std::array<int, 3>& size, const std::array<double, 2>& given_shear) {
-  const std::array<double, 2> shear{to_eighth_pixel(given_shear[0]), to_eighth_pixel(given_shear[1])};
-  std::vector<core::Vec<3>> points;
-  points.reserve(static_cast<std::size_t>(size[0]) * size[1] * size[2]);
-  for (int t = 0; t < size[2]; ++t)
-    for (int y = 0; y < size[1]; ++y)
-      for (int x = 0; x < size[0]; ++x) points.push_back({x + 0.5, y + 0.5, t + 0.5});
-  std::vector<core::Vec<3>> sheared = points;
-  for (core::Vec<3>& p : sheared) p[0] -= shear[0] * p[2], p[1] -= shear[1] * p[2];
-  core::SimplexMesh<3> mesh;
-  if (!core::layered_delaunay(sheared, static_cast<index_t>(size[0]) * size[1], mesh))
-    mesh = core::delaunay<3>(sheared);
-  mesh.points = std::move(points);
-  return mesh;
-}
-
 // "ddt" and "delaunay" on a D-dimensional grid (D = 3: volumes, D = 4:
 // series; every axis > 1 sample): the grid's Delaunay mesh, the Lawson
 // procedure in slabs along the last axis, the scan conversion.
@@ -131,8 +108,8 @@ std::vector<float> mesh_reconstruction(const GridProblem<D>& grid, const VolumeU
   core::SimplexMesh<D> mesh;
   bool sheared = false;
   if constexpr (D == 3)
-    if (grid.last_axis_is_time && (options.time_shear[0] != 0 || options.time_shear[1] != 0)) {
-      mesh = sheared_delaunay(grid.input, options.time_shear);
+    if (grid.last_axis_is_time && (options.time_shear[0] != 0 || options.time_shear[1] != 0 || options.time_zoom != 0)) {
+      mesh = motion_delaunay(grid.input, options.time_shear, options.time_zoom, options.time_origin);
       sheared = true;
     }
   if (!sheared) mesh = core::grid_delaunay<D>(grid.input);  // = CGAL's Delaunay of the sample points
@@ -251,6 +228,41 @@ Volume classic_upscale(const Volume& src, const std::array<int, 4>& size, const 
 }
 
 }  // namespace
+
+// The orientation argument for the zoom: docs/sequences.md, "Zoom".
+core::SimplexMesh<3> motion_delaunay(const std::array<int, 3>& size, const std::array<double, 2>& given_shear,
+                                     double zoom, int time_origin) {
+  const std::array<double, 2> shear{to_eighth_pixel(given_shear[0]), to_eighth_pixel(given_shear[1])};
+  std::vector<core::Vec<3>> points;
+  points.reserve(static_cast<std::size_t>(size[0]) * size[1] * size[2]);
+  for (int t = 0; t < size[2]; ++t)
+    for (int y = 0; y < size[1]; ++y)
+      for (int x = 0; x < size[0]; ++x) points.push_back({x + 0.5, y + 0.5, t + 0.5});
+  std::vector<core::Vec<3>> sheared = points;
+  if (zoom == 0) {
+    for (core::Vec<3>& p : sheared) p[0] -= shear[0] * p[2], p[1] -= shear[1] * p[2];
+  } else {
+    const std::size_t frame = static_cast<std::size_t>(size[0]) * size[1];
+    const double c[2] = {size[0] / 2.0, size[1] / 2.0};
+    for (int t = 0; t < size[2]; ++t) {
+      const double frames = double(time_origin) + t;
+      const double growth = std::exp(frames * std::log1p(zoom));       // g^t
+      const double carried = std::expm1(frames * std::log1p(zoom)) / zoom;  // (g^t - 1) / (g - 1)
+      for (std::size_t i = frame * t; i < frame * (t + 1); ++i)
+        for (int k = 0; k < 2; ++k) sheared[i][k] = c[k] + (points[i][k] - c[k] - shear[k] * carried) / growth;
+    }
+  }
+  core::SimplexMesh<3> mesh;
+  if (core::layered_delaunay(sheared, static_cast<index_t>(size[0]) * size[1], mesh)) {
+  } else if (zoom == 0) {
+    mesh = core::delaunay<3>(sheared);
+  } else {
+    return core::grid_delaunay<3>(size);
+  }
+  mesh.points = std::move(points);
+  return mesh;
+}
+
 
 std::array<bool, 4> mesh_problem_axes(const std::array<int, 4>& in) {
   std::array<bool, 4> keep{};

@@ -109,6 +109,15 @@ struct VolumeUpscaleOptions {
   // dominant motion (dominant_motion.hpp; docs/sequences.md, "Dominant
   // motion").
   std::array<double, 2> time_shear{};
+  // With it, a zoom about the frame's centre: x + time_zoom (x - c) +
+  // time_shear in the next frame is where x goes (the zoom model of
+  // dominant_motion.hpp); the mesh is that of the samples carried back to
+  // the first frame. 0: the shear alone.
+  double time_zoom = 0;
+  // The frames before this part's first in the whole sequence (tiles):
+  // the zoom's positions are computed from the whole sequence's frame
+  // numbers, so that tiles triangulate as the whole does.
+  int time_origin = 0;
   // Set by upscale_volume when it reduces a series to a 3D problem: that
   // problem's last axis is time.
   bool last_axis_is_time = false;
@@ -173,6 +182,26 @@ Volume upscale_volume(const Volume& src, const std::array<int, 4>& size, const V
 // one sample and, when they are fewer than three, the first others (thin
 // axes, which the 3D path gives to the 2D method).
 std::array<bool, 4> mesh_problem_axes(const std::array<int, 4>& in);
+
+// The initial mesh of an image sequence (x, y, t; size = W, H, T) along a
+// motion: the Delaunay triangulation of the samples carried back along it,
+// over their own positions. A shear (zoom 0): (x - dx t, y - dy t, t),
+// affine with determinant 1, so every cell keeps its orientation and the
+// cells tile the box; the shear is taken to 1/8 pixel, so the positions
+// are exact in doubles and a tile's mesh, whose frames count from its own
+// first one, is the whole sequence's translated (exact tiles). With a zoom
+// z a frame about the frame's centre c (VolumeUpscaleOptions::time_zoom),
+// frame t's sample x is carried to u, x = c + g^t (u - c) + d (g^t - 1) /
+// (g - 1), g = 1 + z, t counted from the sequence's first frame
+// (time_origin + the frame in this part). That map is not affine: the
+// frames are triangulated in pairs and glued (core::layered_delaunay), so
+// a tetrahedron's vertices lie on two consecutive frames, where the map is
+// a similarity without rotation on each; its orientation (3 + 1 vertices:
+// a triangle's; 2 + 2: the sign of the cross product of its two edges)
+// keeps its sign and the cells tile the box. Where the frames do not
+// glue, the lattice's mesh (the Delaunay of all the samples for a shear).
+core::SimplexMesh<3> motion_delaunay(const std::array<int, 3>& size, const std::array<double, 2>& shear, double zoom,
+                                     int time_origin);
 
 // The output size along an axis of n samples enlarged by s: round(n s)
 // (at least 1), or (n - 1) s + 1 rounded on a node-centred axis (n > 1).

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <random>
+#include <tuple>
 
 using namespace ddt;
 
@@ -32,6 +33,32 @@ std::vector<Image> moving_texture(int frames, int size, double vx, double vy, in
         double v = 0.5;
         for (const Wave& w : waves) v += w.amplitude * std::sin(w.kx * (x - vx * t) + w.ky * (y - vy * t) + w.phase);
         for (int c = 0; c < channels; ++c) f.at(x, y, c) = static_cast<float>(v * (1 - 0.1 * c));
+      }
+    out.push_back(f);
+  }
+  return out;
+}
+
+// The same texture seen by a camera zooming by `zoom` a frame about the
+// frame's centre c and moving by d: texture point u is at c + g^t (u - c) +
+// d (g^t - 1) / (g - 1) in frame t (g = 1 + zoom), dominant_motion's model.
+std::vector<Image> zooming_texture(int frames, int size, double zoom, double dx, double dy) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<std::array<double, 4>> waves;  // kx, ky, phase, amplitude
+  for (int i = 0; i < 24; ++i)
+    waves.push_back({(u(rng) - 0.5) * 1.4, (u(rng) - 0.5) * 1.4, u(rng) * 6.283, 0.02 + 0.03 * u(rng)});
+  const double c = size / 2.0;
+  std::vector<Image> out;
+  for (int t = 0; t < frames; ++t) {
+    const double g = std::pow(1 + zoom, t), carried = (g - 1) / zoom;
+    Image f(size, size, 1);
+    for (int y = 0; y < size; ++y)
+      for (int x = 0; x < size; ++x) {
+        const double ux = c + (x + 0.5 - c - dx * carried) / g, uy = c + (y + 0.5 - c - dy * carried) / g;
+        double v = 0.5;
+        for (const auto& w : waves) v += w[3] * std::sin(w[0] * ux + w[1] * uy + w[2]);
+        f.at(x, y) = static_cast<float>(v);
       }
     out.push_back(f);
   }
@@ -80,7 +107,37 @@ TEST_CASE("dominant_motion: a translating texture's shift, whole and fractional,
     CHECK(std::abs(m.dx - vx) <= 0.13);
     CHECK(std::abs(m.dy - vy) <= 0.13);
     CHECK(m.dx * 8 == std::round(m.dx * 8));  // rounded to 1/8 pixel
+    CHECK(m.zoom == 0);
   }
+}
+
+TEST_CASE("dominant_motion: a zoom about the centre, in and out, with a translation") {
+  for (const auto& [zoom, dx, dy] : {std::tuple{0.03, 0.0, 0.0}, std::tuple{-0.025, 1.0, -0.5}, std::tuple{0.05, -0.5, 0.25}}) {
+    CAPTURE(zoom);
+    CAPTURE(dx);
+    const DominantMotion m = motion_of(zooming_texture(6, 96, zoom, dx, dy));
+    CAPTURE(m.median_zoom);
+    CAPTURE(m.zoom_agreeing);
+    CHECK(m.found);
+    CHECK(m.zoom_agreeing == 5);
+    CHECK(std::abs(m.zoom - zoom) <= 0.002);
+    CHECK(std::abs(m.dx - dx) <= 0.25);
+    CHECK(std::abs(m.dy - dy) <= 0.25);
+    CHECK(m.zoom * 65536 == std::round(m.zoom * 65536));  // rounded to 2^-16
+  }
+  // A zoom whose corners move under a pixel a frame is left to the lattice.
+  const DominantMotion slow = motion_of(zooming_texture(6, 96, 0.01, 0, 0));
+  CHECK_FALSE(slow.found);
+  CHECK(slow.zoom == 0);
+  CHECK(std::abs(slow.median_zoom - 0.01) <= 0.003);
+  // A dot jumping about a flat frame: no translation explains it, and the
+  // blocks have too little texture for a zoom.
+  std::vector<Image> flat(4, Image(96, 96, 1, 0.5f));
+  const int spots[4][2] = {{10, 40}, {60, 20}, {30, 75}, {85, 12}};
+  for (int t = 0; t < 4; ++t) flat[t].at(spots[t][0], spots[t][1]) = 1;
+  const DominantMotion dot = motion_of(flat);
+  CHECK_FALSE(dot.found);
+  CHECK(dot.zoom_agreeing == 0);
 }
 
 TEST_CASE("dominant_motion: none for still frames, motion of a pixel or less, a rotation, or one frame") {

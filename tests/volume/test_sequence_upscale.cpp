@@ -1,12 +1,15 @@
 #include "eval/sequence_experiments.hpp"
 #include "eval/sequence_scenes.hpp"
 #include "util/error.hpp"
+#include "core/check_mesh.hpp"
 #include "volume/sequence_upscale.hpp"
+#include "volume/volume_upscale.hpp"
 
 #include <doctest/doctest.h>
 
 #include <cmath>
 #include <random>
+#include <tuple>
 
 using namespace ddt;
 
@@ -46,6 +49,12 @@ std::vector<SequenceUpscaleOptions> initial_meshes() {
     o.volume.time_shear = {dx, dy};
     meshes.push_back(o);
   }
+  // A zoom (0.3, -0.25, zoom 1.04 a frame) and a zoom out without shift.
+  for (const std::string motion : {"0.3,-0.25,1.04", "0,0,0.95"}) {
+    SequenceUpscaleOptions o;
+    set_motion(o, motion);
+    meshes.push_back(o);
+  }
   return meshes;
 }
 
@@ -66,6 +75,7 @@ TEST_CASE("upscale_sequence: (T - 1) * s + 1 frames, each input frame kept bit f
   for (SequenceUpscaleOptions o : initial_meshes()) {
     CAPTURE(o.volume.time_shear[0]);
     CAPTURE(o.volume.time_shear[1]);
+    CAPTURE(o.volume.time_zoom);
     for (const int s : {1, 2, 4}) {
       for (const Render render : {Render::linear, Render::cubic}) {
         o.volume.render = render;
@@ -100,6 +110,7 @@ TEST_CASE("upscale_sequence: a field linear in x, y and t is exact between the f
   for (const SequenceUpscaleOptions& o : initial_meshes()) {
     CAPTURE(o.volume.time_shear[0]);
     CAPTURE(o.volume.time_shear[1]);
+    CAPTURE(o.volume.time_zoom);
     const std::vector<Image> out = run(in, 4, o);
     REQUIRE(out.size() == 21);
     double worst = 0;
@@ -233,4 +244,34 @@ TEST_CASE("sequence scenes: the truth moves as described; box_resample averages 
   CHECK_THROWS_AS(box_resample(photo, 4, 0, 2.0, 3, 3), Error);
   CHECK_THROWS_AS(find_sequence_scene("nope"), Error);
   CHECK_THROWS_AS(render_sequence_frame("pan", 0, 8, 8), Error);  // needs a photograph
+}
+
+TEST_CASE("motion_delaunay: a zoom's mesh is valid, joins consecutive frames only, tiles the box and follows the zoom") {
+  const std::array<int, 3> size{9, 7, 4};
+  const core::SimplexMesh<3> lattice = motion_delaunay(size, {0, 0}, 0, 0);
+  for (const auto& [zoom, dx, origin] : {std::tuple{0.25, 0.5, 0}, std::tuple{-0.2, -1.0, 3}, std::tuple{0.1, 0.0, 7}}) {
+    CAPTURE(zoom);
+    CAPTURE(origin);
+    const core::SimplexMesh<3> mesh = motion_delaunay(size, {dx, 0.25}, zoom, origin);
+    REQUIRE(core::check_mesh<3>(mesh) == "");
+    double volume = 0;
+    int spanning = 0;
+    for (index_t c = 0; c < mesh.slot_count(); ++c) {
+      if (!mesh.is_live(c)) continue;
+      std::array<core::Vec<3>, 4> p;
+      int t_lo = 1 << 20, t_hi = -1;
+      for (int i = 0; i < 4; ++i) {
+        p[i] = mesh.points[mesh.vertex(c, i)];
+        t_lo = std::min(t_lo, int(p[i][2])), t_hi = std::max(t_hi, int(p[i][2]));
+      }
+      spanning += t_hi - t_lo != 1;
+      core::Vec<3> a, b, e;
+      for (int k = 0; k < 3; ++k) a[k] = p[1][k] - p[0][k], b[k] = p[2][k] - p[0][k], e[k] = p[3][k] - p[0][k];
+      volume += (a[0] * (b[1] * e[2] - b[2] * e[1]) - a[1] * (b[0] * e[2] - b[2] * e[0]) +
+                 a[2] * (b[0] * e[1] - b[1] * e[0])) / 6;
+    }
+    CHECK(spanning == 0);
+    CHECK(std::abs(volume - 8.0 * 6 * 3) < 1e-9);
+    CHECK(mesh.cell != lattice.cell);  // the zoom's mesh, not the lattice's fallback
+  }
 }

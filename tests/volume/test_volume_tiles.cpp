@@ -77,7 +77,8 @@ TEST_CASE("upscale_in_tiles: exact tiles of a series along time, and of image se
   // frame (a mesh sheared along that motion), 13 frames before they leave;
   // "strokes, given": a shear given as (0.3, -0.7), which is not exact in
   // doubles at every frame (taken to 1/8 pixel, it is).
-  for (const std::string name : {"bar", "strokes", "strokes, given"}) {
+  // "strokes, zoom given": the same with a zoom of 3 % a frame.
+  for (const std::string name : {"bar", "strokes", "strokes, given", "strokes, zoom given"}) {
     CAPTURE(name);
     const std::string scene = name.substr(0, name.find(','));
     const bool given = name != scene;
@@ -93,7 +94,7 @@ TEST_CASE("upscale_in_tiles: exact tiles of a series along time, and of image se
     SequenceUpscaleOptions o;
     o.volume.region_slices = 4;
     o.volume.render = Render::cubic;
-    if (given) o.shear_dominant_motion = false, o.volume.time_shear = {0.3, -0.7};
+    if (given) set_motion(o, name == "strokes, given" ? "0.3,-0.7" : "0.3,-0.7,1.03");
     o.tile_frames = 1000;
     const std::vector<Image> whole = run(o, nullptr);
     o.tile_frames = 4;
