@@ -110,8 +110,11 @@ struct Match {
   double dx = 0, dy = 0;
   double cost = 0;  // mean absolute difference at the best whole shift
 };
-Match match(const Pyramid& a, const Pyramid& b, const Window& w, int top) {
-  Shift s = best_shift(a.level(top), b.level(top), 0, 0, 4, at_level(w, top));
+// With `guess`: a search of +-1 about that shift at level 0 alone.
+Match match(const Pyramid& a, const Pyramid& b, const Window& w, int top, const Shift* guess = nullptr) {
+  Shift s = guess ? best_shift(*a.frame, *b.frame, guess->dx, guess->dy, 1, w)
+                  : best_shift(a.level(top), b.level(top), 0, 0, 4, at_level(w, top));
+  if (guess) top = 0;
   for (int level = top - 1; level >= 0; --level)
     s = best_shift(a.level(level), b.level(level), 2 * s.dx, 2 * s.dy, 1, at_level(w, level));
   double c[3][3];
@@ -149,14 +152,18 @@ double texture(const Plane& a, const Window& w) {
 
 // The zoom model fitted to the shifts of a grid of blocks: the least
 // squares (zoom, dx, dy) of shift = zoom (centre - c) + d over the blocks
-// with texture, then again over those within 0.5 pixel of the fit; the
-// pair is explained when they are at least min_agreeing_share of them.
+// with texture; then each block matched again about the shift the fit
+// predicts for it (+-1 pixel: a periodic texture's match can lock onto
+// another period), and the fit made again over the blocks within 0.5
+// pixel of it; the pair is explained when they are at least
+// min_agreeing_share of the blocks.
 void fit_zoom(const Pyramid& a, const Pyramid& b, const DominantMotionOptions& options, PairMotion& m) {
   const Plane& f = *a.frame;
   const int n = options.zoom_blocks;
   const double cx = f.width / 2.0, cy = f.height / 2.0;
   struct Block {
     double px, py, sx, sy;
+    Window w;
   };
   std::vector<Block> blocks;
   for (int j = 0; j < n; ++j)
@@ -167,12 +174,12 @@ void fit_zoom(const Pyramid& a, const Pyramid& b, const DominantMotionOptions& o
       while (top + 1 < a.levels() && std::min(w.x1 - w.x0, w.y1 - w.y0) >> (top + 1) >= 16) ++top;
       const Match s = match(a, b, w, top);
       if (!std::isfinite(s.cost)) continue;
-      blocks.push_back({(w.x0 + w.x1) / 2.0 - cx, (w.y0 + w.y1) / 2.0 - cy, s.dx, s.dy});
+      blocks.push_back({(w.x0 + w.x1) / 2.0 - cx, (w.y0 + w.y1) / 2.0 - cy, s.dx, s.dy, w});
     }
   if (blocks.size() < static_cast<std::size_t>(options.min_zoom_blocks)) return;
   std::vector<char> used(blocks.size(), 1);
-  for (int pass = 0; pass < 2; ++pass) {
-    // Normal equations of the three unknowns; x and y share the zoom.
+  // Least squares over the used blocks; false when too few are left.
+  auto fit = [&] {
     double spp = 0, spx = 0, spy = 0, sxs = 0, sys = 0, sps = 0, count = 0;
     for (std::size_t k = 0; k < blocks.size(); ++k) {
       if (!used[k]) continue;
@@ -181,19 +188,33 @@ void fit_zoom(const Pyramid& a, const Pyramid& b, const DominantMotionOptions& o
       sxs += q.sx, sys += q.sy, sps += q.px * q.sx + q.py * q.sy, count += 1;
     }
     const double varp = spp - (spx * spx + spy * spy) / count;
-    if (count < options.min_zoom_blocks || !(varp > 0)) return;
-    m.zoom = (sps - (spx * sxs + spy * sys) / count) / varp;
+    if (count < options.min_zoom_blocks || !(varp > 0)) return false;
+    m.zoom = (sps - (spx * sxs + spy * sys) / count) / varp;  // x and y share the zoom
     m.zoom_dx = (sxs - m.zoom * spx) / count;
     m.zoom_dy = (sys - m.zoom * spy) / count;
+    return true;
+  };
+  auto mark_inliers = [&] {
     int inliers = 0;
     for (std::size_t k = 0; k < blocks.size(); ++k) {
       const Block& q = blocks[k];
       used[k] = std::abs(m.zoom * q.px + m.zoom_dx - q.sx) <= 0.5 && std::abs(m.zoom * q.py + m.zoom_dy - q.sy) <= 0.5;
       inliers += used[k];
     }
-    m.zoom_explained = inliers >= options.min_agreeing_share * double(blocks.size());
-    if (!m.zoom_explained) return;
+    return inliers;
+  };
+  if (!fit()) return;
+  mark_inliers();
+  if (!fit()) return;
+  for (Block& q : blocks) {
+    const Shift guess{static_cast<int>(std::lround(m.zoom * q.px + m.zoom_dx)),
+                      static_cast<int>(std::lround(m.zoom * q.py + m.zoom_dy))};
+    const Match s = match(a, b, q.w, 0, &guess);
+    if (std::isfinite(s.cost)) q.sx = s.dx, q.sy = s.dy;
   }
+  mark_inliers();
+  if (!fit()) return;
+  m.zoom_explained = mark_inliers() >= options.min_agreeing_share * double(blocks.size());
 }
 
 PairMotion pair_motion(const Plane& a, const Plane& b, const DominantMotionOptions& options) {
