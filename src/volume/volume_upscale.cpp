@@ -242,14 +242,21 @@ core::SimplexMesh<3> motion_delaunay(const std::array<int, 3>& size, const std::
   if (zoom == 0) {
     for (core::Vec<3>& p : sheared) p[0] -= shear[0] * p[2], p[1] -= shear[1] * p[2];
   } else {
+    // Frame t's samples carried back form the lattice u = x s + o; with s
+    // and o taken to 2^-20 every u is exact in doubles, so the lattice's
+    // cocircular squares stay exactly so (CGAL decides them symbolically,
+    // as on the lattice, instead of exactly on rounding noise).
+    auto dyadic = [](double v) { return std::ldexp(std::round(std::ldexp(v, 20)), -20); };
     const std::size_t frame = static_cast<std::size_t>(size[0]) * size[1];
     const double c[2] = {size[0] / 2.0, size[1] / 2.0};
     for (int t = 0; t < size[2]; ++t) {
       const double frames = double(time_origin) + t;
-      const double growth = std::exp(frames * std::log1p(zoom));       // g^t
+      const double scale = dyadic(std::exp(-frames * std::log1p(zoom)));        // 1 / g^t
       const double carried = std::expm1(frames * std::log1p(zoom)) / zoom;  // (g^t - 1) / (g - 1)
+      const double o[2] = {dyadic(c[0] - (c[0] + shear[0] * carried) * scale),
+                           dyadic(c[1] - (c[1] + shear[1] * carried) * scale)};
       for (std::size_t i = frame * t; i < frame * (t + 1); ++i)
-        for (int k = 0; k < 2; ++k) sheared[i][k] = c[k] + (points[i][k] - c[k] - shear[k] * carried) / growth;
+        for (int k = 0; k < 2; ++k) sheared[i][k] = points[i][k] * scale + o[k];
     }
   }
   core::SimplexMesh<3> mesh;
