@@ -49,6 +49,20 @@ def test_colour_space_scale_and_size():
     assert ddtscale.upscale_sequence(f[:, ::-1], 2).shape == (5, 16, 24, 3)  # negative strides accepted
 
 
+def test_a_given_zoom_keeps_the_frames_and_a_linear_field():
+    # A field linear in x, y and t is rebuilt exactly on any valid mesh: the
+    # mesh carried along a zoom of 6 % a frame and a shift too.
+    t, y, x = np.meshgrid(np.arange(4.0), np.arange(12.0), np.arange(16.0), indexing="ij")
+    f = (0.1 + 0.02 * x + 0.03 * y + 0.05 * t).astype(np.float32)
+    out = ddtscale.upscale_sequence(f, 2, motion="0.5,-0.25,1.06")
+    assert out.shape == (7, 12, 16)
+    assert (out[::2] == f).all()
+    truth = (0.1 + 0.02 * x[0] + 0.03 * y[0] + 0.05 * 0.5)
+    assert np.abs(out[1] - truth).max() < 2e-6
+    with pytest.raises(ValueError, match="ZOOM"):
+        ddtscale.upscale_sequence(f, 2, motion="0,0,3")
+
+
 @pytest.mark.parametrize("frames,kwargs,message", [
     (np.zeros((0, 8, 8), np.uint8), {}, "no frames"),
     (np.zeros((8, 8), np.uint8), {}, "dimensions"),
