@@ -294,13 +294,13 @@ DominantMotion dominant_motion(int frames, const std::function<Image(int)>& fram
   for (const PairMotion& m : motion)
     result.zoom_agreeing += m.zoom_explained && std::abs(m.zoom - result.median_zoom) * std::hypot(hw, hh) <= 0.5 &&
                             std::abs(m.zoom_dx - mx) <= 0.5 && std::abs(m.zoom_dy - my) <= 0.5;
-  double corner = 0;  // the fastest motion, at a corner
-  for (const double x : {-hw, hw})
-    for (const double y : {-hh, hh})
-      corner = std::max({corner, std::abs(result.median_zoom * x + mx), std::abs(result.median_zoom * y + my)});
+  // The zoom's own motion at the frame's edges: where it is a pixel a
+  // frame or less, what moves faster is a translation, and that is the
+  // translation's rules' to take or leave (slow_texture.hpp).
+  const double zoom_motion = std::abs(result.median_zoom) * std::max(hw, hh);
   // A zoom held over the whole sequence: within a factor of max_total_zoom.
   const double total = std::abs((frames - 1) * std::log1p(std::max(-0.5, result.median_zoom)));
-  if (corner > options.min_shift && result.zoom_agreeing >= options.min_agreeing_share * pairs &&
+  if (zoom_motion > options.min_shift && result.zoom_agreeing >= options.min_agreeing_share * pairs &&
       total <= std::log(options.max_total_zoom)) {
     result.found = true;
     result.zoom = to_zoom_step(result.median_zoom);

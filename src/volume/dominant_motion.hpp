@@ -45,8 +45,9 @@
 // pair is explained when those are min_agreeing_share of the blocks (at
 // least min_zoom_blocks). The medians of zoom and d are kept when
 // min_agreeing_share of the pairs are explained and within 0.5 pixel of
-// them at the farthest corner, when a corner moves more than min_shift a
-// frame, and when the zoom held over the whole sequence stays within a
+// them at the farthest corner, when the zoom alone moves the frame's edges
+// by more than min_shift a frame (slower, the translation's rules decide),
+// and when the zoom held over the whole sequence stays within a
 // factor max_total_zoom; zoom is rounded to 2^-16, d to 1/8 pixel.
 //
 // frame(k) gives input frame k (0-based; any channels); the frames of the

@@ -125,7 +125,11 @@ TEST_CASE("dominant_motion: a zoom about the centre, in and out, with a translat
     CHECK(std::abs(m.dy - dy) <= 0.25);
     CHECK(m.zoom * 65536 == std::round(m.zoom * 65536));  // rounded to 2^-16
   }
-  // A zoom whose corners move under a pixel a frame is left to the lattice.
+  // A pan at the translation's threshold (a pixel a frame) is no zoom.
+  const DominantMotion pan = motion_of(moving_texture(6, 96, 1.0, 0.5, 1));
+  CHECK(pan.zoom == 0);
+  CHECK(pan.dx == (pan.found ? 1.0 : 0.0));
+  // A zoom whose edges move under a pixel a frame is left to the lattice.
   const DominantMotion slow = motion_of(zooming_texture(6, 96, 0.01, 0, 0));
   CHECK_FALSE(slow.found);
   CHECK(slow.zoom == 0);
