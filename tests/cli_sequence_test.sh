@@ -80,6 +80,7 @@ grep -q "motion:" "$work/err.txt" && bad "--motion off still estimates the motio
 run_ok "motion given" "$work/in/in_%04d.png" "$work/out/m_%04d.png" --time-scale 4 --motion -3,2
 run_fail "motion bad" "$work/in/in_%04d.png" "$work/out/mb_%04d.png" --time-scale 4 --motion 3
 grep -q "auto, off, DX,DY or DX,DY,ZOOM" "$work/err.txt" && ok || bad "--motion 3: $(cat "$work/err.txt")"
+run_fail "motion trailing" "$work/in/in_%04d.png" "$work/out/mt_%04d.png" --time-scale 4 --motion 3,2x
 run_ok "motion zoom given" "$work/in/in_%04d.png" "$work/out/mz_%04d.png" --time-scale 4 --motion -3,2,1.02
 run_fail "motion zoom bad" "$work/in/in_%04d.png" "$work/out/mzb_%04d.png" --time-scale 4 --motion 0,0,3
 grep -q "ZOOM the scale a frame about the centre, 0.5 to 2" "$work/err.txt" && ok || bad "--motion 0,0,3: $(cat "$work/err.txt")"

@@ -301,7 +301,7 @@ DominantMotion dominant_motion(int frames, const std::function<Image(int)>& fram
   // A zoom held over the whole sequence: within a factor of max_total_zoom.
   const double total = std::abs((frames - 1) * std::log1p(std::max(-0.5, result.median_zoom)));
   if (zoom_motion > options.min_shift && result.zoom_agreeing >= options.min_agreeing_share * pairs &&
-      total <= std::log(options.max_total_zoom)) {
+      result.median_zoom > -0.5 && result.median_zoom < 1 && total <= std::log(options.max_total_zoom)) {
     result.found = true;
     result.zoom = to_zoom_step(result.median_zoom);
     result.dx = to_eighth_pixel(mx);

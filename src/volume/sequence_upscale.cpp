@@ -24,8 +24,9 @@ void set_motion(SequenceUpscaleOptions& options, const std::string& text) {
   }
   double dx = 0, dy = 0, zoom = 1;
   char rest = 0;
-  const int read = std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &dx, &dy, &zoom, &rest);
-  if ((read != 2 && read != 3) || !std::isfinite(dx) || !std::isfinite(dy) || std::abs(dx) > 1000 ||
+  const bool with_zoom = std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &dx, &dy, &zoom, &rest) == 3;
+  const bool shift_only = !with_zoom && std::sscanf(text.c_str(), "%lf,%lf%c", &dx, &dy, &rest) == 2;
+  if ((!with_zoom && !shift_only) || !std::isfinite(dx) || !std::isfinite(dy) || std::abs(dx) > 1000 ||
       std::abs(dy) > 1000 || !(zoom >= 0.5 && zoom <= 2))
     throw Error("--motion must be auto, off, DX,DY or DX,DY,ZOOM (pixels a frame, at most 1000; ZOOM the scale a "
                 "frame about the centre, 0.5 to 2), not '" + text + "'");

@@ -195,7 +195,7 @@ TEST_CASE("upscale_sequence: shearing along the dominant motion rebuilds a movin
   }
 }
 
-TEST_CASE("set_motion: auto, off, DX,DY; anything else refused") {
+TEST_CASE("set_motion: auto, off, DX,DY, DX,DY,ZOOM - anything else refused") {
   SequenceUpscaleOptions o;
   CHECK(motion_text(o) == "auto");
   set_motion(o, "-2.5,1");
@@ -206,8 +206,18 @@ TEST_CASE("set_motion: auto, off, DX,DY; anything else refused") {
   CHECK(o.volume.time_shear == std::array<double, 2>{0.25, -0.75});
   set_motion(o, "off");
   CHECK(motion_text(o) == "off");
+  set_motion(o, "0,-1,1.02");  // a zoom, to 2^-16
+  CHECK(o.volume.time_zoom == std::round(0.02 * 65536) / 65536);
+  CHECK(o.volume.time_shear == std::array<double, 2>{0, -1});
+  const std::string zoom_text = motion_text(o);
   set_motion(o, "auto");
   CHECK(o.shear_dominant_motion);
-  for (const char* bad : {"", "on", "1", "1,2,3", "1,x", "nan,0", "0,inf", "2000,0", "1, 2x"})
+  CHECK(o.volume.time_zoom == 0);
+  set_motion(o, zoom_text);  // the text round-trips
+  CHECK(o.volume.time_zoom == std::round(0.02 * 65536) / 65536);
+  set_motion(o, "-2.5,1");
+  CHECK(o.volume.time_zoom == 0);
+  for (const char* bad : {"", "on", "1", "1,2,3", "1,x", "nan,0", "0,inf", "2000,0", "1, 2x", "0,0,0.4", "0,0,x",
+                          "1,2,1.02x", "1,2,1.02,3", "3,2x"})
     CHECK_THROWS_AS(set_motion(o, bad), Error);
 }
