@@ -68,7 +68,7 @@ SimplexMesh<3> ring_of_four(const Vec<3>& w1) {
 
 }  // namespace
 
-TEST_CASE("core flips 2D: 2-2 swaps the diagonal of a convex quadrilateral; concave and hull edges do not flip") {
+TEST_CASE("core flips 2D: 2-2 swaps the diagonal of a convex quadrilateral - concave and hull edges do not flip") {
   const std::vector<Vec<2>> p = {{0, 0}, {4, 1}, {5, 5}, {1, 4}};
   const SimplexMesh<2> mesh = mesh_from_cells<2>(p, {{0, 1, 2}, {0, 2, 3}});
   const auto plan = check_flip_and_back(mesh, {0, 2}, "2-2", cells_of<2>({{0, 1, 3}, {1, 2, 3}}));
@@ -118,7 +118,7 @@ TEST_CASE("core flips 3D: an octahedron's edge has two 4-4 flips, one per coplan
   CHECK(diagonals == std::set<std::vector<index_t>>{{2, 4}, {3, 5}});
 }
 
-TEST_CASE("core flips 3D: the hull 2-2 is the 2D 2-2 joined with one vertex; a non-coplanar open ring does not flip") {
+TEST_CASE("core flips 3D: the hull 2-2 is the 2D 2-2 joined with one vertex - a non-coplanar open ring does not flip") {
   const std::vector<Vec<3>> p = {{0, 0, 1}, {0, 0, -1}, {1, 0, 0}, {0.2, 1, 0.3}, {-1, 0, 0}};
   const SimplexMesh<3> mesh = mesh_from_cells<3>(p, {{0, 1, 2, 3}, {0, 1, 3, 4}});
   const auto plan = check_flip_and_back(mesh, {0, 1}, "2-2", cells_of<3>({{2, 4, 3, 0}, {2, 4, 3, 1}}));

@@ -75,7 +75,7 @@ TEST_CASE("core grid_delaunay<4>: the same arrays as CGAL's dD Delaunay, 24 simp
   CHECK(grid_delaunay<4>({3, 3, 1, 3}).cell_count() == 0);
 }
 
-TEST_CASE("core layered_delaunay: the grid's arrays on a lattice; valid and filling the box when sheared") {
+TEST_CASE("core layered_delaunay: the grid's arrays on a lattice - valid and filling the box when sheared") {
   for (const auto& n : std::vector<std::array<int, 3>>{{2, 2, 2}, {5, 4, 6}, {7, 3, 2}, {6, 6, 6}}) {
     CAPTURE(n[0]);
     CAPTURE(n[1]);

@@ -83,7 +83,7 @@ TEST_CASE_TEMPLATE("core flip_costs: the local gain equals the change of the tot
   }
 }
 
-TEST_CASE_TEMPLATE("core optimize_lawson: the cost never rises; the mesh ends valid, locally optimal, same content", T,
+TEST_CASE_TEMPLATE("core optimize_lawson: the cost never rises - the mesh ends valid, locally optimal, same content", T,
                    Dim<2>, Dim<3>) {
   constexpr int D = T::value;
   for (const CostFunction& cost : cost_functions()) {
@@ -111,7 +111,7 @@ TEST_CASE_TEMPLATE("core optimize_lawson: the cost never rises; the mesh ends va
   }
 }
 
-TEST_CASE_TEMPLATE("core optimize_lawson: a linear field makes no sederberg flips; a constant field none at all", T,
+TEST_CASE_TEMPLATE("core optimize_lawson: a linear field makes no sederberg flips - a constant field none at all", T,
                    Dim<2>, Dim<3>, Dim<4>) {
   constexpr int D = T::value;
   SimplexMesh<D> m = delaunay<D>(grid_points<D>(D == 4 ? 3 : 5));
@@ -179,7 +179,7 @@ TEST_CASE_TEMPLATE("core optimize_lawson: the region schedule gives the same mes
   }
 }
 
-TEST_CASE_TEMPLATE("core optimize_lawson: no flip removes a simplex the caller keeps; keeping none changes nothing", T,
+TEST_CASE_TEMPLATE("core optimize_lawson: no flip removes a simplex the caller keeps - keeping none changes nothing", T,
                    Dim<2>, Dim<3>) {
   constexpr int D = T::value;
   const SimplexMesh<D> start = delaunay<D>(grid_points<D>(D == 2 ? 14 : 7));

@@ -190,7 +190,7 @@ TEST_CASE("core radon_partition: a convex quadrilateral splits into its diagonal
   CHECK(t[2] == -t[0]);
 }
 
-TEST_CASE("core radon_partition: a segment through a triangle in 3D is 3-2; coplanar points give 0 off the circuit") {
+TEST_CASE("core radon_partition: a segment through a triangle in 3D is 3-2 - coplanar points give 0 off the circuit") {
   const std::array<Vec<3>, 5> s = {Vec<3>{0, 0, 0}, {3, 0, 0}, {0, 3, 0}, {1, 1, 2}, {1, 1, -1}};
   const auto r = radon_partition<3>(s);
   CHECK(r[0] == r[1]);

@@ -27,7 +27,7 @@ TEST_CASE("side_by_side: the right half is the plain DDT output, bit for bit") {
     for (int x = 60; x < 63; ++x) CHECK(both.at(x, y, 0) == 0.0f);
 }
 
-TEST_CASE("side_by_side: separator alpha is opaque; mismatched sizes are an error") {
+TEST_CASE("side_by_side: separator alpha is opaque - mismatched sizes are an error") {
   const Image a(4, 3, 4, 0.5f), b(4, 3, 4, 0.25f);
   const Image both = side_by_side(a, b, 2, 1.0f, 3);
   CHECK(both.at(4, 1, 3) == 1.0f);

@@ -117,7 +117,7 @@ TEST_CASE("measure_edge_sharpness: a Gaussian-blurred step rises in 2.56 sigma, 
   CHECK(ddt::measure_edge_sharpness(ideal, ideal_edge, 8.0).rise_width < 0.5 * 2 * kZ90 * 0.25);
 }
 
-TEST_CASE("measure_edge_sharpness: a wavy edge's wobble is its RMS displacement; a shifted edge's is the shift") {
+TEST_CASE("measure_edge_sharpness: a wavy edge's wobble is its RMS displacement - a shifted edge's is the shift") {
   const int size = 320;
   const double s = 10.0;
   const StepEdge edge = edge_at(10.0, 0.52 * size, 0.5 * size);
@@ -167,7 +167,7 @@ TEST_CASE("measure_edge_sharpness: overshoot is the worst excursion in the measu
   CHECK(lanczos.overshoot > 1.0);
 }
 
-TEST_CASE("measure_edge_sharpness: no room for a profile gives NaN; bad input throws") {
+TEST_CASE("measure_edge_sharpness: no room for a profile gives NaN - bad input throws") {
   StepEdge edge;
   const Image small = ideal_step(0.0, 40, edge);
   const ddt::EdgeSharpness none = ddt::measure_edge_sharpness(small, edge, 10.0);  // 4 input pixels wide

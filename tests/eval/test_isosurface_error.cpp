@@ -28,7 +28,7 @@ Volume ramp(const std::array<int, 4>& size, double plane, double slope) {
 
 }  // namespace
 
-TEST_CASE("isosurface_error: a linear ramp's crossings lie on its plane; a shift is measured as itself") {
+TEST_CASE("isosurface_error: a linear ramp's crossings lie on its plane - a shift is measured as itself") {
   const std::array<int, 4> size{16, 8, 6, 3};
   const double plane = 0.4;  // between voxel centres 6 and 7
   const Volume v = ramp(size, plane, 2.0);

@@ -80,7 +80,7 @@ TEST_CASE("ImageBandWriter: the file written by bands is write_image's, byte for
   }
 }
 
-TEST_CASE("ImageBandWriter: bands out of order or missing are refused; an unfinished writer leaves no file") {
+TEST_CASE("ImageBandWriter: bands out of order or missing are refused - an unfinished writer leaves no file") {
   const TempDir dir;
   const Image img = texture(20, 10, 3);
   {

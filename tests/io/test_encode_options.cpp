@@ -33,7 +33,7 @@ OIIO::ImageSpec spec_of(const std::string& path) {
 
 }  // namespace
 
-TEST_CASE("write_image: PNG levels and filters round-trip the same pixels; a higher level is no larger") {
+TEST_CASE("write_image: PNG levels and filters round-trip the same pixels - a higher level is no larger") {
   const TempDir dir;
   const Image img = texture(96, 64);
   const ImageFile reference = [&] {

@@ -49,7 +49,7 @@ TEST_CASE("frame patterns: %d and %0Nd, names written and recognized as printf w
     CHECK_THROWS_AS(parse_frame_pattern(bad), Error);
 }
 
-TEST_CASE("frame sequences: found in order; a gap, no match and mismatched frames are refused") {
+TEST_CASE("frame sequences: found in order - a gap, no match and mismatched frames are refused") {
   ScratchDir dir;
   const FramePattern p = parse_frame_pattern((dir.path / "f_%03d.png").string());
   CHECK_THROWS_WITH_AS(find_frames(p), doctest::Contains("matches no file"), Error);
@@ -67,7 +67,7 @@ TEST_CASE("frame sequences: found in order; a gap, no match and mismatched frame
   CHECK_THROWS_WITH_AS(find_frames(p), doctest::Contains("frame 7"), Error);
 }
 
-TEST_CASE("FrameSequenceWriter: nothing appears before commit, nothing is left without it; inputs are kept") {
+TEST_CASE("FrameSequenceWriter: nothing appears before commit, nothing is left without it - inputs are kept") {
   ScratchDir dir;
   const FramePattern out = parse_frame_pattern((dir.path / "o_%02d.png").string());
   {

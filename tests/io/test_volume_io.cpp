@@ -158,7 +158,7 @@ TEST_CASE("read_volume: bad files give one-line errors") {
   CHECK_THROWS_AS(write_volume(dir / "x.png", Volume(2, 2, 2), VolumeSampleType::uint8, VolumeEncoding::raw), Error);
 }
 
-TEST_CASE("read_volume: a 2-axis NRRD is one slice; a leading axis of size 1 is dropped") {
+TEST_CASE("read_volume: a 2-axis NRRD is one slice - a leading axis of size 1 is dropped") {
   TempDir dir;
   {
     std::ofstream(dir / "slice.nrrd") << "NRRD0004\ntype: float\ndimension: 2\nsizes: 3 2\nencoding: ascii\n\n1 2 3 4 5 6\n";
@@ -199,7 +199,7 @@ TEST_CASE("check_volume_output_path: refuses the input, other extensions and mis
   CHECK_THROWS_AS(parse_encoding("zip"), Error);
 }
 
-TEST_CASE("read_volume / write_volume: a leading RGB-color axis is the channels; kinds and geometry are kept") {
+TEST_CASE("read_volume / write_volume: a leading RGB-color axis is the channels - kinds and geometry are kept") {
   TempDir dir;
   const std::size_t C = 3, nx = 4, ny = 5, nz = 6;
   std::vector<float> data(C * nx * ny * nz);

@@ -68,7 +68,7 @@ TEST_CASE("upscale_file: the file written equals the enlargement written whole, 
   }
 }
 
-TEST_CASE("upscale_file: a file that cannot be read or written is a FileError, a bad size an Error; nothing is left") {
+TEST_CASE("upscale_file: a file that cannot be read or written is a FileError, a bad size an Error - nothing is left") {
   const TempDir dir;
   write_image(dir / "in.png", noisy_scene(16, 16), SampleFormat::uint8);
   CHECK_THROWS_AS(upscale_file(job_of(dir / "missing.png", dir / "out.png", 2)), FileError);

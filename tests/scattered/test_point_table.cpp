@@ -61,7 +61,7 @@ TEST_CASE("parse_point_table: comments, blank lines, BOM, CR-LF and semicolons")
   CHECK(t.values == std::vector<double>{3, 6});
 }
 
-TEST_CASE("parse_point_table: --columns picks by name or number; quoted text columns are skipped") {
+TEST_CASE("parse_point_table: --columns picks by name or number - quoted text columns are skipped") {
   const std::string text =
       "id,\"name, long\",east,north,elev\n"
       "1,\"Hill, north \"\"A\"\"\",10,20,300\n"

@@ -44,7 +44,7 @@ TEST_CASE("memory: physical and available are positive, a job past them is refus
   CHECK(default_max_input_voxels() == physical_memory() / 1024);
 }
 
-TEST_CASE("parse_memory_size: bytes and K, M, G, T in powers of 1024; one-line errors for the rest") {
+TEST_CASE("parse_memory_size: bytes and K, M, G, T in powers of 1024 - one-line errors for the rest") {
   CHECK(parse_memory_size("1500000000") == 1500000000LL);
   CHECK(parse_memory_size("512M") == 512LL << 20);
   CHECK(parse_memory_size("2G") == 2LL << 30);

@@ -8,7 +8,7 @@
 
 using namespace ddt;
 
-TEST_CASE("smoothed_grid: constants and sigma 0 unchanged; linear ramps kept inside; only the chosen axes move") {
+TEST_CASE("smoothed_grid: constants and sigma 0 unchanged - linear ramps kept inside - only the chosen axes move") {
   const std::vector<int> size = {12, 9, 5};
   const int C = 2;
   std::vector<float> v(std::size_t(12 * 9 * 5 * C));

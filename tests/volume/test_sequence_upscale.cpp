@@ -153,7 +153,7 @@ TEST_CASE("upscale_sequence: a fractional time scale (60/24) samples the instant
   }
 }
 
-TEST_CASE("upscale_sequence: tiles over time join the untiled result closely; margins make them closer") {
+TEST_CASE("upscale_sequence: tiles over time join the untiled result closely - margins make them closer") {
   const std::vector<Image> in = scene_frames("strokes", 25, 4, 48);
   const std::vector<Image> whole = run(in, 4);
   double previous = 0;
@@ -211,7 +211,7 @@ TEST_CASE("upscale_sequence: the graduated optimization (presmooth) gets a fast 
   CHECK(p_graduated > p_plain + 3.0);
 }
 
-TEST_CASE("upscale_sequence: one frame is enlarged by the 2D method; bad arguments are refused") {
+TEST_CASE("upscale_sequence: one frame is enlarged by the 2D method - bad arguments are refused") {
   const std::vector<Image> one = scene_frames("disk", 1, 1, 16);
   const std::vector<Image> out = run(one, 4, {}, 32, 32);
   REQUIRE(out.size() == 1);
@@ -225,7 +225,7 @@ TEST_CASE("upscale_sequence: one frame is enlarged by the 2D method; bad argumen
   CHECK_THROWS_AS(upscale_sequence(2, 17, 16, 1, read, 16, 16, 2, {}, write), Error);
 }
 
-TEST_CASE("sequence scenes: the truth moves as described; box_resample averages exactly") {
+TEST_CASE("sequence scenes: the truth moves as described - box_resample averages exactly") {
   const Image a = render_sequence_frame("disk", 0, 32, 32), b = render_sequence_frame("disk", 4, 32, 32);
   double mass_a = 0, mass_b = 0, x_a = 0, x_b = 0;
   for (int y = 0; y < 32; ++y)

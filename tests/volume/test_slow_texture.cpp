@@ -74,7 +74,7 @@ double made_psnr(const std::vector<Image>& out, const std::vector<Image>& truth,
 
 }  // namespace
 
-TEST_CASE("slow_texture_samples: texture moving half a pixel is flagged; texture moving 4 pixels, edges and flat "
+TEST_CASE("slow_texture_samples: texture moving half a pixel is flagged - texture moving 4 pixels, edges and flat "
           "areas are not") {
   const int size = 40;
   const std::size_t frame = std::size_t(size) * size;
@@ -94,7 +94,7 @@ TEST_CASE("slow_texture_samples: texture moving half a pixel is flagged; texture
   CHECK_THROWS_AS(slow_texture_samples({}, 0, size, 3, 3), Error);
 }
 
-TEST_CASE("upscale_sequence: slow texture stays paired along time (several dB over flipping it); a moving edge's "
+TEST_CASE("upscale_sequence: slow texture stays paired along time (several dB over flipping it) - a moving edge's "
           "frames are the unrestricted ones bit for bit") {
   const int size = 32, scale = 4, kept = 4;
   const Image photo = texture_photo(128, 1);

@@ -110,7 +110,7 @@ TEST_CASE("upscale_in_tiles: exact tiles of a series along time, and of image se
   }
 }
 
-TEST_CASE("upscale_in_tiles: the margin needed grows with the phases; bad scales are refused with one line") {
+TEST_CASE("upscale_in_tiles: the margin needed grows with the phases - bad scales are refused with one line") {
   CHECK(tile_margin_needed(1, 16) == 18);
   CHECK(tile_margin_needed(3, 16) == 34);
   CHECK(tile_margin_needed(3, 5) == 14);  // half a slab rounds up

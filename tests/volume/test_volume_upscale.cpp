@@ -116,7 +116,7 @@ TEST_CASE("upscale_volume: deterministic (same input, same output bits)") {
   CHECK(a.voxels == b.voxels);
 }
 
-TEST_CASE("upscale_volume: in slabs, the same output bits for 1 and 2 threads; slabs of default size below 47^3 are "
+TEST_CASE("upscale_volume: in slabs, the same output bits for 1 and 2 threads - slabs of default size below 47^3 are "
           "one region") {
   const Volume in = sample_field(find_volume_field("sphere"), 14, 14, 14, 2);
   VolumeUpscaleOptions options = method("ddt");
@@ -179,7 +179,7 @@ TEST_CASE("upscale_volume: bad arguments are refused") {
   CHECK_THROWS_AS(upscale_volume(in, 6, 6, 6, method("ddt", "nope")), Error);
 }
 
-TEST_CASE("classic_resize_volume: trilinear agrees with Teem's tent kernel; tricubic keeps constants") {
+TEST_CASE("classic_resize_volume: trilinear agrees with Teem's tent kernel - tricubic keeps constants") {
   std::mt19937 rng(8);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   Volume in(6, 5, 4);
@@ -196,7 +196,7 @@ TEST_CASE("classic_resize_volume: trilinear agrees with Teem's tent kernel; tric
   CHECK_THROWS_AS(classic_resize_volume(in, 8, 8, 8, "lanczos"), Error);
 }
 
-TEST_CASE("sample_field: the sphere's mean is the ball's volume; the hydrogen density peaks at 1 on the z axis") {
+TEST_CASE("sample_field: the sphere's mean is the ball's volume - the hydrogen density peaks at 1 on the z axis") {
   const Volume s = sample_field(find_volume_field("sphere"), 16, 16, 16, 4);
   double mean = 0;
   for (float v : s.voxels) mean += v;
