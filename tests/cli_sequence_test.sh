@@ -29,7 +29,7 @@ run_fail() {
 count() { find "$1" -maxdepth 1 -name "$2" | wc -l; }
 
 # Input: the moving strokes, frames 0..8 of the full rate (every 4th kept below).
-mkdir -p "$work/full" "$work/in" "$work/out"
+mkdir -p "$work/full" "$work/in" "$work/out" "$work/long"
 run_ok "sequence-scene" sequence-scene strokes "$work/full/f_%03d.png" --frames 9 --size 40x32
 [ "$(count "$work/full" 'f_*.png')" -eq 9 ] && ok || bad "sequence-scene wrote $(count "$work/full" 'f_*.png') frames"
 cp "$work/full/f_000.png" "$work/in/in_0001.png"
@@ -82,6 +82,9 @@ run_fail "motion bad" "$work/in/in_%04d.png" "$work/out/mb_%04d.png" --time-scal
 grep -q "auto, off, DX,DY or DX,DY,ZOOM" "$work/err.txt" && ok || bad "--motion 3: $(cat "$work/err.txt")"
 run_fail "motion trailing" "$work/in/in_%04d.png" "$work/out/mt_%04d.png" --time-scale 4 --motion 3,2x
 run_ok "motion zoom given" "$work/in/in_%04d.png" "$work/out/mz_%04d.png" --time-scale 4 --motion -3,2,1.02
+run_ok "sequence-scene long" sequence-scene strokes "$work/long/l_%03d.png" --frames 12 --size 16x16
+run_fail "motion zoom too long" "$work/long/l_%03d.png" "$work/out/mzl_%04d.png" --time-scale 2 --motion 0,0,0.5
+grep -q "factor over 1024" "$work/err.txt" && ok || bad "--motion 0,0,0.5: $(cat "$work/err.txt")"
 run_fail "motion zoom bad" "$work/in/in_%04d.png" "$work/out/mzb_%04d.png" --time-scale 4 --motion 0,0,3
 grep -q "ZOOM the scale a frame about the centre, 0.5 to 2" "$work/err.txt" && ok || bad "--motion 0,0,3: $(cat "$work/err.txt")"
 [ -e "$work/out/mzb_0000.png" ] && bad "a refused --motion wrote a frame" || ok

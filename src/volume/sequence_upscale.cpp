@@ -65,6 +65,12 @@ void upscale_sequence(int frames, int width, int height, int channels, const std
   // untiled volume); any other is given to the tiler.
   if (time_scale != std::floor(time_scale)) tiling.axis_scale = time_scale;
   VolumeUpscaleOptions volume = options.volume;
+  if (volume.time_zoom != 0 && std::abs((frames - 1) * std::log1p(volume.time_zoom)) > std::log(1024.0)) {
+    char line[200];
+    std::snprintf(line, sizeof line, "--motion: a zoom of %g a frame over %d frames is a factor over 1024; give a zoom nearer 1",
+                  1 + volume.time_zoom, frames);
+    throw Error(line);
+  }
   DominantMotion motion;
   if (options.shear_dominant_motion && volume.method == VolumeMethod::ddt && frames > 1) {
     motion = dominant_motion(frames, options.motion_frames ? options.motion_frames : read);

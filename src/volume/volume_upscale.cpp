@@ -255,6 +255,11 @@ core::SimplexMesh<3> motion_delaunay(const std::array<int, 3>& size, const std::
       const double carried = std::expm1(frames * std::log1p(zoom)) / zoom;  // (g^t - 1) / (g - 1)
       const double o[2] = {dyadic(c[0] - (c[0] + shear[0] * carried) * scale),
                            dyadic(c[1] - (c[1] + shear[1] * carried) * scale)};
+      // A zoom held so long that a frame shrinks to nothing (or overflows)
+      // has no lattice to carry: the lattice's mesh.
+      if (!(scale >= std::ldexp(1.0, -10) && scale <= std::ldexp(1.0, 10)) || !std::isfinite(o[0]) ||
+          !std::isfinite(o[1]))
+        return core::grid_delaunay<3>(size);
       for (std::size_t i = frame * t; i < frame * (t + 1); ++i)
         for (int k = 0; k < 2; ++k) sheared[i][k] = points[i][k] * scale + o[k];
     }

@@ -199,7 +199,8 @@ std::array<bool, 4> mesh_problem_axes(const std::array<int, 4>& in);
 // a similarity without rotation on each; its orientation (3 + 1 vertices:
 // a triangle's; 2 + 2: the sign of the cross product of its two edges)
 // keeps its sign and the cells tile the box. Where the frames do not
-// glue, the lattice's mesh (the Delaunay of all the samples for a shear).
+// glue, the lattice's mesh (the Delaunay of all the samples for a shear);
+// also where the zoom reaches a factor of 1024 either way.
 core::SimplexMesh<3> motion_delaunay(const std::array<int, 3>& size, const std::array<double, 2>& shear, double zoom,
                                      int time_origin);
 

@@ -274,4 +274,6 @@ TEST_CASE("motion_delaunay: a zoom's mesh is valid, joins consecutive frames onl
     CHECK(std::abs(volume - 8.0 * 6 * 3) < 1e-9);
     CHECK(mesh.cell != lattice.cell);  // the zoom's mesh, not the lattice's fallback
   }
+  // A zoom past a factor of 1024 (3^7 by frame 7): the lattice's mesh.
+  CHECK(motion_delaunay(size, {0, 0}, 2.0, 4).cell == lattice.cell);
 }
