@@ -243,9 +243,9 @@ core::SimplexMesh<3> motion_delaunay(const std::array<int, 3>& size, const std::
     for (core::Vec<3>& p : sheared) p[0] -= shear[0] * p[2], p[1] -= shear[1] * p[2];
   } else {
     // Frame t's samples carried back form the lattice u = x s + o; with s
-    // and o taken to 2^-20 every u is exact in doubles, so the lattice's
-    // cocircular squares stay exactly so (CGAL decides them symbolically,
-    // as on the lattice, instead of exactly on rounding noise).
+    // and o taken to 2^-20 every u is exact in doubles (no rounding noise
+    // for CGAL's predicates to decide exactly, and tiles compute the same
+    // positions as the whole).
     auto dyadic = [](double v) { return std::ldexp(std::round(std::ldexp(v, 20)), -20); };
     const std::size_t frame = static_cast<std::size_t>(size[0]) * size[1];
     const double c[2] = {size[0] / 2.0, size[1] / 2.0};
@@ -262,6 +262,11 @@ core::SimplexMesh<3> motion_delaunay(const std::array<int, 3>& size, const std::
         return core::grid_delaunay<3>(size);
       for (std::size_t i = frame * t; i < frame * (t + 1); ++i)
         for (int k = 0; k < 2; ++k) sheared[i][k] = points[i][k] * scale + o[k];
+      // Then one in-plane shear (x + y / 256) for every frame: it keeps the
+      // orientation argument (the same linear map on each frame, up to a
+      // positive scale) and turns the lattice's cocircular squares into
+      // parallelograms, which CGAL's filters decide without exact arithmetic.
+      for (std::size_t i = frame * t; i < frame * (t + 1); ++i) sheared[i][0] += std::ldexp(sheared[i][1], -8);
     }
   }
   core::SimplexMesh<3> mesh;
