@@ -262,13 +262,14 @@ core::SimplexMesh<3> motion_delaunay(const std::array<int, 3>& size, const std::
         return core::grid_delaunay<3>(size);
       for (std::size_t i = frame * t; i < frame * (t + 1); ++i)
         for (int k = 0; k < 2; ++k) sheared[i][k] = points[i][k] * scale + o[k];
-      // Then one in-plane shear (x + y / 256) for every frame: it keeps the
-      // orientation argument (the same linear map on each frame, up to a
-      // positive scale) and turns the lattice's cocircular squares into
-      // parallelograms, which CGAL's filters decide without exact arithmetic.
-      for (std::size_t i = frame * t; i < frame * (t + 1); ++i) sheared[i][0] += std::ldexp(sheared[i][1], -8);
     }
   }
+  // Then one in-plane shear (x + y / 256), the same on every frame: it
+  // keeps the orientation argument (the same linear map on each frame, up
+  // to a positive scale; for the translation, an affine map of determinant
+  // 1) and turns the lattice's cocircular squares into parallelograms,
+  // which CGAL's filters decide without exact arithmetic. Exact in doubles.
+  for (core::Vec<3>& p : sheared) p[0] += std::ldexp(p[1], -8);
   core::SimplexMesh<3> mesh;
   if (core::layered_delaunay(sheared, static_cast<index_t>(size[0]) * size[1], mesh)) {
   } else if (zoom == 0) {

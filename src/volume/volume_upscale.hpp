@@ -196,14 +196,15 @@ std::array<bool, 4> mesh_problem_axes(const std::array<int, 4>& in);
 // (time_origin + the frame in this part). That map is not affine: the
 // frames are triangulated in pairs and glued (core::layered_delaunay), so
 // a tetrahedron's vertices lie on two consecutive frames, where the map is
-// a similarity without rotation on each (then one in-plane shear x + y /
-// 256 for all frames, which breaks the lattice's cocircular squares for
-// CGAL's speed); its orientation (3 + 1 vertices: a triangle's; 2 + 2: the
+// a similarity without rotation on each; its orientation (3 + 1 vertices: a triangle's; 2 + 2: the
 // sign of the cross product of its two edges) keeps its sign under the
 // same linear map on both frames up to a positive scale, and the cells
 // tile the box. Where the frames do not
 // glue, the lattice's mesh (the Delaunay of all the samples for a shear);
-// also where the zoom reaches a factor of 1024 either way.
+// also where the zoom reaches a factor of 1024 either way. Both then take
+// one in-plane shear x + y / 256, the same on every frame (which keeps the
+// orientation argument), so that the lattice's cocircular squares become
+// parallelograms that CGAL's filters decide without exact arithmetic.
 core::SimplexMesh<3> motion_delaunay(const std::array<int, 3>& size, const std::array<double, 2>& shear, double zoom,
                                      int time_origin);
 
