@@ -271,11 +271,9 @@ core::SimplexMesh<3> motion_delaunay(const std::array<int, 3>& size, const std::
   // which CGAL's filters decide without exact arithmetic. Exact in doubles.
   for (core::Vec<3>& p : sheared) p[0] += std::ldexp(p[1], -8);
   core::SimplexMesh<3> mesh;
-  if (core::layered_delaunay(sheared, static_cast<index_t>(size[0]) * size[1], mesh)) {
-  } else if (zoom == 0) {
+  if (!core::layered_delaunay(sheared, static_cast<index_t>(size[0]) * size[1], mesh)) {
+    if (zoom != 0) return core::grid_delaunay<3>(size);  // one triangulation of all frames could fold
     mesh = core::delaunay<3>(sheared);
-  } else {
-    return core::grid_delaunay<3>(size);
   }
   mesh.points = std::move(points);
   return mesh;
