@@ -65,10 +65,10 @@ void upscale_sequence(int frames, int width, int height, int channels, const std
   // untiled volume); any other is given to the tiler.
   if (time_scale != std::floor(time_scale)) tiling.axis_scale = time_scale;
   VolumeUpscaleOptions volume = options.volume;
-  if (volume.time_zoom != 0 && std::abs((frames - 1) * std::log1p(volume.time_zoom)) > std::log(1024.0)) {
+  if (volume.time_zoom != 0 && std::abs((frames - 1) * std::log1p(volume.time_zoom)) > std::log(max_sequence_zoom)) {
     char line[200];
-    std::snprintf(line, sizeof line, "--motion: a zoom of %g a frame over %d frames is a factor over 1024; give a zoom nearer 1",
-                  1 + volume.time_zoom, frames);
+    std::snprintf(line, sizeof line, "--motion: a zoom of %g a frame over %d frames is a factor over %g; give a zoom nearer 1",
+                  1 + volume.time_zoom, frames, max_sequence_zoom);
     throw Error(line);
   }
   DominantMotion motion;

@@ -257,7 +257,7 @@ core::SimplexMesh<3> motion_delaunay(const std::array<int, 3>& size, const std::
                            dyadic(c[1] - (c[1] + shear[1] * carried) * scale)};
       // A zoom held so long that a frame shrinks to nothing (or overflows)
       // has no lattice to carry: the lattice's mesh.
-      if (!(scale >= std::ldexp(1.0, -10) && scale <= std::ldexp(1.0, 10)) || !std::isfinite(o[0]) ||
+      if (!(scale >= 1 / max_sequence_zoom && scale <= max_sequence_zoom) || !std::isfinite(o[0]) ||
           !std::isfinite(o[1]))
         return core::grid_delaunay<3>(size);
       for (std::size_t i = frame * t; i < frame * (t + 1); ++i)
@@ -278,7 +278,6 @@ core::SimplexMesh<3> motion_delaunay(const std::array<int, 3>& size, const std::
   mesh.points = std::move(points);
   return mesh;
 }
-
 
 std::array<bool, 4> mesh_problem_axes(const std::array<int, 4>& in) {
   std::array<bool, 4> keep{};

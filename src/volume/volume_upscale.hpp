@@ -205,6 +205,8 @@ std::array<bool, 4> mesh_problem_axes(const std::array<int, 4>& in);
 // one in-plane shear x + y / 256, the same on every frame (which keeps the
 // orientation argument), so that the lattice's cocircular squares become
 // parallelograms that CGAL's filters decide without exact arithmetic.
+// The largest zoom a sequence's mesh follows, first to last frame, either way.
+inline constexpr double max_sequence_zoom = 1024;
 core::SimplexMesh<3> motion_delaunay(const std::array<int, 3>& size, const std::array<double, 2>& shear, double zoom,
                                      int time_origin);
 
