@@ -75,7 +75,12 @@ struct CellSetup {
   std::array<Vec<D>, D + 1> unit;
   std::array<double, D + 1> off;
   std::array<double, D + 1> den;  // raw[i] . (p_i - p_0), i >= 1
-  std::array<double, D + 1> inv_axis0;  // 1 / unit[i][0], 0 when the facet is parallel to the rows
+  // The rows run along axis order[0] (the cell's longest, in samples), the
+  // levels above them along order[1], ..., order[D - 1]: a long thin cell
+  // costs its samples, not the rows across it. Arithmetic stays in axis
+  // order whatever the rows' axis, so every sample gets the same bits.
+  std::array<int, D> order;
+  std::array<double, D + 1> inv_row;  // 1 / unit[i][order[0]], 0 when the facet is parallel to the rows
   Vec<D> lo, hi;                  // bounding box
   const double* patch = nullptr;  // the cubic render: K blocks of cubic_controls<D> values; null: linear
 };
@@ -121,7 +126,8 @@ void setup_cell(CellSetup<D>& s, bool distances = true) {
       s.unit[i][k] = raw[k] / len;
       s.off[i] -= s.unit[i][k] * s.p[base][k];
     }
-    s.inv_axis0[i] = std::abs(s.unit[i][0]) < 1e-12 ? 0.0 : 1.0 / s.unit[i][0];
+    const double along = s.unit[i][s.order[0]];
+    s.inv_row[i] = std::abs(along) < 1e-12 ? 0.0 : 1.0 / along;
   }
 }
 
@@ -178,7 +184,7 @@ struct IntegerCell {
   std::array<std::array<std::int64_t, D>, D + 1> v;
   std::array<std::array<std::int64_t, D>, D + 1> normal;
   std::array<int, D + 1> tie;
-  std::array<double, D + 1> inv_row_slope;  // 1 / (normal[i][0] * sample_step[0]), 0 when parallel to rows
+  std::array<double, D + 1> inv_row_slope;  // 1 / (normal[i][row] * sample_step[row]), 0 when parallel to rows
 };
 
 // False when the cell is too large for 64-bit sides (then the float path).
@@ -196,7 +202,8 @@ bool integer_cell(const IntegerFrame<D>& frame, const CellSetup<D>& s, IntegerCe
     cell.tie[i] = 0;
     for (int k = 0; k < D && cell.tie[i] == 0; ++k)
       if (normal[k] != 0) cell.tie[i] = normal[k] > 0 ? 1 : -1;
-    const std::int64_t slope = normal[0] * frame.sample_step[0];
+    const int row = s.order[0];
+    const std::int64_t slope = normal[row] * frame.sample_step[row];
     cell.inv_row_slope[i] = slope == 0 ? 0.0 : 1.0 / double(slope);
   }
   return true;
@@ -323,27 +330,30 @@ void cut(const Vec<D>* from, int n, int axis, double c, Section<D>& to) {
   }
 }
 
-// Writes samples X0..X1 of a row, all owned by the cell. Channels: the
-// compile-time count (1: scalars) or 0 for scan.K. Both paths apply the
-// one exact fill rule, so no sample has two owners (ScanStats::overcovered
-// counts any that would); the integer frame's rows (Exact) count with a
-// plain add, the rare floating-point cells keep an atomic one.
+// Writes samples X0..X1 of a row (along axis s.order[0]), all owned by the
+// cell. Channels: the compile-time count (1: scalars) or 0 for scan.K.
+// Both paths apply the one exact fill rule, so no sample has two owners
+// (ScanStats::overcovered counts any that would); the integer frame's rows
+// (Exact) count with a plain add, the rare floating-point cells keep an
+// atomic one.
 template <int D, int Channels, bool Exact>
 void interpolate_row(const Scan<D>& scan, const CellSetup<D>& s, const double* z0, const double* dz, const Vec<D>& q,
                      std::size_t row_base, int X0, int X1) {
   const int K = Channels > 0 ? Channels : scan.K;
-  const std::vector<double>& xs = scan.coord[0];
+  const int row = s.order[0];
+  const std::vector<double>& xs = scan.coord[row];
+  const std::size_t step = scan.stride[row];
   Vec<D> pq;
-  for (int k = 1; k < D; ++k) pq[k] = q[k] - s.p[0][k];
+  for (int k = 0; k < D; ++k) pq[k] = q[k] - s.p[0][k];
   for (int X = X0; X <= X1; ++X) {
-    pq[0] = xs[X] - s.p[0][0];
+    pq[row] = xs[X] - s.p[0][row];
     double w[D + 1];
     for (int i = 1; i <= D; ++i) {
       double dot = s.raw[i][0] * pq[0];
       for (int k = 1; k < D; ++k) dot += s.raw[i][k] * pq[k];
       w[i] = dot / s.den[i];
     }
-    const std::size_t idx = row_base + X;
+    const std::size_t idx = row_base + X * step;
     float* o = scan.out + idx * K;
     if (s.patch) {
       w[0] = 1;
@@ -363,37 +373,39 @@ void interpolate_row(const Scan<D>& scan, const CellSetup<D>& s, const double* z
   }
 }
 
-// One row along axis 0 at the fixed coordinates q[1..]: the floating-point
-// segment inside the cell, trimmed exactly at both ends (the owned samples
-// of a row are contiguous), then interpolated.
+// One row along axis s.order[0] at the other coordinates of q: the
+// floating-point segment inside the cell, trimmed exactly at both ends (the
+// owned samples of a row are contiguous), then interpolated.
 template <int D>
 void scan_row(const Scan<D>& scan, const CellSetup<D>& s, const double* z0, const double* dz, Vec<D> q,
               std::size_t row_base, int xb0, int xb1) {
-  double x_lo = s.lo[0], x_hi = s.hi[0];
+  const int row = s.order[0];
+  double x_lo = s.lo[row], x_hi = s.hi[row];
   for (int i = 0; i <= D; ++i) {
     double rest = s.off[i];
-    for (int k = 1; k < D; ++k) rest += s.unit[i][k] * q[k];
-    const double nx = s.unit[i][0];
-    if (s.inv_axis0[i] == 0) {
+    for (int k = 0; k < D; ++k)
+      if (k != row) rest += s.unit[i][k] * q[k];
+    const double nx = s.unit[i][row];
+    if (s.inv_row[i] == 0) {
       if (rest < -scan.tol) return;
     } else if (nx > 0) {
-      x_lo = std::max(x_lo, -rest * s.inv_axis0[i]);
+      x_lo = std::max(x_lo, -rest * s.inv_row[i]);
     } else {
-      x_hi = std::min(x_hi, -rest * s.inv_axis0[i]);
+      x_hi = std::min(x_hi, -rest * s.inv_row[i]);
     }
   }
   if (x_lo > x_hi + 2 * scan.tol) return;
   int X0, X1;
-  scan.index_range(0, x_lo, x_hi, X0, X1);
+  scan.index_range(row, x_lo, x_hi, X0, X1);
   X0 = std::max(X0, xb0);
   X1 = std::min(X1, xb1);
-  const std::vector<double>& xs = scan.coord[0];
+  const std::vector<double>& xs = scan.coord[row];
   for (; X0 <= X1; ++X0) {
-    q[0] = xs[X0];
+    q[row] = xs[X0];
     if (inside<D>(s, q, scan.tol, scan.lattice)) break;
   }
   for (; X1 >= X0; --X1) {
-    q[0] = xs[X1];
+    q[row] = xs[X1];
     if (inside<D>(s, q, scan.tol, scan.lattice)) break;
   }
   if (X0 > X1) return;
@@ -405,36 +417,39 @@ void scan_row(const Scan<D>& scan, const CellSetup<D>& s, const double* z0, cons
 
 // scan_row in the integer frame: the side of facet i at sample xb0 + t is
 // the integer A t + B, so each facet bounds t exactly (an estimate by one
-// multiplication, then corrected by exact tests), ties by the fill rule.
-// S: the scaled coordinates of the row (axes >= 1).
+// multiplication, then corrected by exact tests). The fill rule keeps a
+// sample where A t + B > 0, or = 0 with the facet's tie-break +1: in
+// integers, A t + B - (tie > 0 ? 0 : 1) >= 0. S: the scaled coordinates of
+// the row (all axes but the row's).
 template <int D>
 void scan_row_exact(const Scan<D>& scan, const CellSetup<D>& s, const IntegerCell<D>& cell, const double* z0,
                     const double* dz, const Vec<D>& q, const std::array<std::int64_t, D>& S, std::size_t row_base,
                     int xb0, int xb1) {
-  const std::int64_t step = scan.frame.sample_step[0];
-  const std::int64_t s0 = scan.frame.sample_base[0] + std::int64_t(xb0) * step;
+  const int row = s.order[0];
+  const std::int64_t step = scan.frame.sample_step[row];
+  const std::int64_t s0 = scan.frame.sample_base[row] + std::int64_t(xb0) * step;
   const std::int64_t W = xb1 - xb0;
   std::int64_t t_lo = 0, t_hi = W;
   for (int i = 0; i <= D && t_lo <= t_hi; ++i) {
     const int base = i == 0 ? 1 : 0;
     const std::array<std::int64_t, D>& n = cell.normal[i];
-    std::int64_t B = n[0] * (s0 - cell.v[base][0]);
-    for (int k = 1; k < D; ++k) B += n[k] * (S[k] - cell.v[base][k]);
-    const std::int64_t A = n[0] * step;
+    std::int64_t B = cell.tie[i] > 0 ? 0 : -1;
+    for (int k = 0; k < D; ++k) B += n[k] * ((k == row ? s0 : S[k]) - cell.v[base][k]);
+    const std::int64_t A = n[row] * step;
     if (A == 0) {  // parallel to the row: all or nothing
-      if (B > 0 || (B == 0 && cell.tie[i] > 0)) continue;
+      if (B >= 0) continue;
       return;
     }
     const double estimate = std::clamp(-double(B) * cell.inv_row_slope[i], -2.0, double(W) + 2.0);
-    if (A > 0) {  // the tie-break is +1 here: A t + B >= 0
+    if (A > 0) {  // A t + B >= 0 from some t on
       std::int64_t t = Scan<D>::ceil_int(estimate);
       while (t > t_lo && A * (t - 1) + B >= 0) --t;
       while (t <= t_hi && A * t + B < 0) ++t;
       t_lo = std::max(t_lo, t);
-    } else {  // and -1 here: A t + B > 0
+    } else {  // up to some t
       std::int64_t t = Scan<D>::floor_int(estimate);
-      while (t < t_hi && A * (t + 1) + B > 0) ++t;
-      while (t >= t_lo && A * t + B <= 0) --t;
+      while (t < t_hi && A * (t + 1) + B >= 0) ++t;
+      while (t >= t_lo && A * t + B < 0) --t;
       t_hi = std::min(t_hi, t);
     }
   }
@@ -446,35 +461,52 @@ void scan_row_exact(const Scan<D>& scan, const CellSetup<D>& s, const IntegerCel
     interpolate_row<D, 0, true>(scan, s, z0, dz, q, row_base, X0, X1);
 }
 
-// The samples along axis L (>= 1) of the section `sec` (the vertices for
-// L = D - 1), each one's row or sub-section in turn.
+// The samples along axis s.order[L] (L >= 1) of the section `sec` (the
+// vertices for L = D - 1), each one's row or sub-section in turn.
 template <int D, int L>
 void scan_level(const Scan<D>& scan, const CellSetup<D>& s, const IntegerCell<D>* cell, const double* z0,
                 const double* dz, const Vec<D>* sec, int n, Vec<D> q, std::array<std::int64_t, D> S, std::size_t base,
                 const std::array<int, D>& box_first, const std::array<int, D>& box_last) {
+  const int axis = s.order[L];
   double lo = INFINITY, hi = -INFINITY;
-  for (int i = 0; i < n; ++i) lo = std::min(lo, sec[i][L]), hi = std::max(hi, sec[i][L]);
-  int I0 = box_first[L], I1 = box_last[L];
+  for (int i = 0; i < n; ++i) lo = std::min(lo, sec[i][axis]), hi = std::max(hi, sec[i][axis]);
+  int I0 = box_first[axis], I1 = box_last[axis];
   if (lo <= hi) {
     int a, b;
-    scan.index_range(L, lo, hi, a, b);
+    scan.index_range(axis, lo, hi, a, b);
     I0 = std::max(I0, a), I1 = std::min(I1, b);
   }
   for (int I = I0; I <= I1; ++I) {
-    q[L] = scan.coord[L][I];
-    S[L] = scan.frame.sample_base[L] + std::int64_t(I) * scan.frame.sample_step[L];
-    const std::size_t next = base + I * scan.stride[L];
+    q[axis] = scan.coord[axis][I];
+    S[axis] = scan.frame.sample_base[axis] + std::int64_t(I) * scan.frame.sample_step[axis];
+    const std::size_t next = base + I * scan.stride[axis];
     if constexpr (L == 1) {
+      const int row = s.order[0];
       if (cell)
-        scan_row_exact<D>(scan, s, *cell, z0, dz, q, S, next, box_first[0], box_last[0]);
+        scan_row_exact<D>(scan, s, *cell, z0, dz, q, S, next, box_first[row], box_last[row]);
       else
-        scan_row<D>(scan, s, z0, dz, q, next, box_first[0], box_last[0]);
+        scan_row<D>(scan, s, z0, dz, q, next, box_first[row], box_last[row]);
     } else {
       Section<D> cross;
-      cut<D>(sec, n, L, q[L], cross);
+      cut<D>(sec, n, axis, q[axis], cross);
       scan_level<D, L - 1>(scan, s, cell, z0, dz, cross.p.data(), cross.n, q, S, next, box_first, box_last);
     }
   }
+}
+
+// The axes of a cell's rows and levels: the rows along the axis where its
+// bounding box holds the most samples (the fewest rows: ties keep the
+// lower axis), the levels along the others in increasing order.
+template <int D>
+std::array<int, D> row_order(const std::array<int, D>& first, const std::array<int, D>& last) {
+  int row = 0;
+  for (int k = 1; k < D; ++k)
+    if (last[k] - first[k] > last[row] - first[row]) row = k;
+  std::array<int, D> order;
+  order[0] = row;
+  for (int k = 0, n = 1; k < D; ++k)
+    if (k != row) order[n++] = k;
+  return order;
 }
 
 // The hull box's faces: 2D of them, face 2 axis + side (0 min, 1 max);
@@ -610,6 +642,7 @@ std::vector<float> scan_convert(const SimplexMesh<D>& mesh, const std::vector<fl
           empty = empty || first[k] > last[k];
         }
         if (empty) continue;
+        s.order = row_order<D>(first, last);
         IntegerCell<D> exact_cell;
         const IntegerCell<D>* cell = frame.valid && integer_cell<D>(frame, s, exact_cell) ? &exact_cell : nullptr;
         setup_cell<D>(s, cell == nullptr);
