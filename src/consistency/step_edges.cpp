@@ -202,6 +202,23 @@ double misfit_5x5(const Image& src, int top, int x, int y, const EdgeFit& fit) {
   return worst;
 }
 
+// False when a pixel of the 5x5 window lies farther than `reach` outside
+// its channel's 3x3 range [lo, hi]: then no fit can be drawn. A drawn fit
+// has its levels within `allowed` of that range and every 5x5 pixel within
+// the reach tolerance of a value between its levels, so `reach` is the sum
+// of the two (and a millionth of the step for rounding). Tested before the
+// fit, which most windows of a photograph reach only to fail the 5x5 test.
+bool within_reach(const Image& src, int top, int x, int y, const std::array<double, max_channels>& lo,
+                  const std::array<double, max_channels>& hi, double reach) {
+  for (int py = y - 2; py <= y + 2; ++py)
+    for (int px = x - 2; px <= x + 2; ++px)
+      for (int c = 0; c < src.channels; ++c) {
+        const double v = src.at(px, py - top, c);
+        if (v < lo[c] - reach || v > hi[c] + reach) return false;
+      }
+  return true;
+}
+
 }  // namespace
 
 StepEdgeRenderer::StepEdgeRenderer(const Image& src, const InputStatistics& statistics, const RowBand& band,
@@ -276,6 +293,8 @@ long long StepEdgeRenderer::render(Image& out, int first_row, int end_row) const
         on_level += value <= lo_main + near || value >= hi_main - near;
       }
       if (on_level < 4) continue;
+      const double reach = allowed + options.reach_tolerance * main_step + rounding + 1e-6 * main_step;
+      if (!within_reach(src, top, x, y, lo, hi, reach)) continue;
       const EdgeFit fit = fit_edge(w, main, lo_main, hi_main, allowed);
       if (!(fit.misfit <= allowed)) continue;
       bool levels_inside = true;  // no level beyond what the window shows
