@@ -189,11 +189,14 @@ static int run_sequence_upscale(int argc, char** argv) {
       ->check(CLI::IsMember(ddt::slope_limiter_names()))
       ->capture_default_str();
   double presmooth = ddt::sequence_volume_defaults().presmooth[0];
-  app.add_option("--presmooth", presmooth,
-                 "graduated optimization: flip first on the frames smoothed by a Gaussian of this sigma (pixels), "
-                 "then on the frames themselves; 0: flip on the frames only")
-      ->check(CLI::Range(0.0, 16.0))
-      ->capture_default_str();
+  char presmooth_help[300];
+  std::snprintf(presmooth_help, sizeof presmooth_help,
+                "graduated optimization: flip first on the frames smoothed by a Gaussian of this sigma (pixels), then "
+                "on the frames themselves; 0: flip on the frames only. Default %g, and %g where the mesh starts along "
+                "a zoom or a shift of whole pixels a frame (--motion)",
+                presmooth, ddt::SequenceUpscaleOptions{}.presmooth_along_motion);
+  const CLI::Option* presmooth_given =
+      app.add_option("--presmooth", presmooth, presmooth_help)->check(CLI::Range(0.0, 16.0));
   app.add_option("--tolerance", tolerance, "a flip must lower the local cost by more than this fraction")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
@@ -383,6 +386,7 @@ static int run_sequence_upscale(int argc, char** argv) {
     options.volume.render = ddt::render_by_name(render);
     options.volume.slopes = ddt::slope_limiter_by_name(slopes);
     options.volume.presmooth = {presmooth, presmooth, 0.0};
+    if (presmooth_given->count() > 0) options.presmooth_along_motion = -1;
     options.volume.keep_slow_texture = !flip_slow_texture;
     auto print = [&](const std::string& line) {
       if (!verbose) return;

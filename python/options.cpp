@@ -268,7 +268,7 @@ py::dict sequence_defaults() {
   d["cost"] = c.options.volume.cost;
   d["render"] = ddt::to_string(c.options.volume.render);
   d["slopes"] = ddt::to_string(c.options.volume.slopes);
-  d["presmooth"] = c.options.volume.presmooth[0];
+  d["presmooth"] = py::none();  // presmooth_along_motion where the mesh starts along a motion, else volume.presmooth
   d["tolerance"] = c.options.volume.relative_tolerance;
   d["flip_slow_texture"] = !c.options.volume.keep_slow_texture;
   d["motion"] = ddt::motion_text(c.options);
@@ -291,7 +291,7 @@ SequenceCall sequence_call(const py::dict& kwargs) {
   o.method = ddt::volume_method_by_name(method);
   get_mesh_options(k, o);
   double sigma = o.presmooth[0];
-  k.get("presmooth", sigma);
+  if (k.get("presmooth", sigma)) c.options.presmooth_along_motion = -1;  // given: whatever the mesh
   if (!(sigma >= 0 && sigma <= 16)) throw ddt::Error("--presmooth must be a sigma in [0, 16] pixels");
   o.presmooth = {sigma, sigma, 0.0};
   bool flip_slow_texture = !o.keep_slow_texture;

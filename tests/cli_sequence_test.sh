@@ -75,8 +75,13 @@ grep -q "slow texture:" "$work/err.txt" && bad "--flip-slow-texture still tests 
 run_ok "motion auto" "$work/in/in_%04d.png" "$work/out/m_%04d.png" --time-scale 4 -v
 grep -qE "motion: 2 of 2 frame pairs agree on \(-(2\.9|3\.0)[0-9], (1\.9|2\.0)[0-9]\) px a frame: the mesh starts sheared" "$work/err.txt" && ok ||
   bad "the default run does not shear along the strokes' motion: $(grep 'motion:' "$work/err.txt")"
+grep -q "presmooth: sigma 0.5 px in space (the mesh starts along the whole-pixel shift)" "$work/err.txt" && ok ||
+  bad "the sheared run does not narrow the smoothing: $(grep 'presmooth' "$work/err.txt")"
+run_ok "presmooth given" "$work/in/in_%04d.png" "$work/out/m_%04d.png" --time-scale 4 -v --presmooth 1
+grep -q "presmooth:" "$work/err.txt" && bad "--presmooth 1 is narrowed along the motion" || ok
 run_ok "motion off" "$work/in/in_%04d.png" "$work/out/m_%04d.png" --time-scale 4 -v --motion off
 grep -q "motion:" "$work/err.txt" && bad "--motion off still estimates the motion" || ok
+grep -q "presmooth:" "$work/err.txt" && bad "--motion off narrows the smoothing" || ok
 run_ok "motion given" "$work/in/in_%04d.png" "$work/out/m_%04d.png" --time-scale 4 --motion -3,2
 run_fail "motion bad" "$work/in/in_%04d.png" "$work/out/mb_%04d.png" --time-scale 4 --motion 3
 grep -q "auto, off, DX,DY or DX,DY,ZOOM" "$work/err.txt" && ok || bad "--motion 3: $(cat "$work/err.txt")"

@@ -85,7 +85,7 @@ def upscale_sequence(
     cost: str = ...,
     render: Literal["linear", "cubic"] = ...,
     slopes: Literal["mc4", "mc", "central", "minmod"] = ...,
-    presmooth: float = ...,
+    presmooth: Optional[float] = ...,
     tolerance: float = ...,
     flip_slow_texture: bool = ...,
     motion: str = ...,

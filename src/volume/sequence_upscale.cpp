@@ -90,6 +90,18 @@ void upscale_sequence(int frames, int width, int height, int channels, const std
       volume.log(line);
     }
   }
+  const auto [dx, dy] = volume.time_shear;
+  const bool whole_shift = (dx != 0 || dy != 0) && dx == std::round(dx) && dy == std::round(dy);
+  const bool along_motion = volume.time_zoom != 0 || whole_shift;
+  if (along_motion && options.presmooth_along_motion >= 0 && volume.method == VolumeMethod::ddt) {
+    volume.presmooth[0] = volume.presmooth[1] = options.presmooth_along_motion;
+    if (volume.log) {
+      char line[160];
+      std::snprintf(line, sizeof line, "presmooth: sigma %g px in space (the mesh starts along the %s)",
+                    options.presmooth_along_motion, volume.time_zoom != 0 ? "zoom" : "whole-pixel shift");
+      volume.log(line);
+    }
+  }
   volume.node_centred[3] = true;  // frames are instants
   volume.presmooth[3] = 0;
   auto read_step = [&](int k, float* samples) {

@@ -88,3 +88,13 @@ def test_options_match_the_command_line(cli):
                     "quiet", "fps", "crf", "slow-motion"}
     assert flags - not_keywords == {k.replace("_", "-") for k in ddtscale.SEQUENCE_OPTIONS}
     assert ddtscale.upscale_sequence.__doc__ and "presmooth" in ddtscale.upscale_sequence.__doc__
+
+
+def test_presmooth_by_default_narrows_along_a_motion_and_a_given_sigma_holds():
+    assert ddtscale.SEQUENCE_OPTIONS["presmooth"] is None
+    f = np.random.default_rng(5).random((3, 24, 32)).astype(np.float32)
+    along = ddtscale.upscale_sequence(f, 4, motion="3,0")
+    assert (along == ddtscale.upscale_sequence(f, 4, motion="3,0", presmooth=0.5)).all()
+    assert not (along == ddtscale.upscale_sequence(f, 4, motion="3,0", presmooth=1)).all()
+    lattice = ddtscale.upscale_sequence(f, 4, motion="off")
+    assert (lattice == ddtscale.upscale_sequence(f, 4, motion="off", presmooth=1)).all()

@@ -7,6 +7,8 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <random>
 #include <tuple>
@@ -209,6 +211,37 @@ TEST_CASE("upscale_sequence: the graduated optimization (presmooth) gets a fast 
           p_plain += psnr(unsmoothed[std::size_t(t)], truth[std::size_t(t)]) / 9;
   MESSAGE("disk at 4 px a kept frame: mean PSNR graduated " << p_graduated << ", plain " << p_plain);
   CHECK(p_graduated > p_plain + 3.0);
+}
+
+TEST_CASE("upscale_sequence: the smoothing narrows to presmooth_along_motion where the mesh starts along a zoom or a "
+          "whole-pixel shift, and a sigma given holds everywhere") {
+  const std::vector<Image> in = scene_frames("disk", 4, 4, 32);
+  auto with = [](const std::string& motion, double sigma, double along) {
+    SequenceUpscaleOptions o;
+    set_motion(o, motion);
+    o.volume.presmooth = {sigma, sigma, 0.0};
+    o.presmooth_along_motion = along;
+    return o;
+  };
+  auto same = [](const std::vector<Image>& a, const std::vector<Image>& b) {
+    bool equal = a.size() == b.size();
+    for (std::size_t k = 0; equal && k < a.size(); ++k) equal = a[k].pixels == b[k].pixels;
+    return equal;
+  };
+  // Along a given shift: the default is sigma 0.5, not the volume's 1.
+  SequenceUpscaleOptions shifted = with("2,1", 1.0, 0.5);
+  std::vector<std::string> log;
+  shifted.volume.log = [&](const std::string& line) { log.push_back(line); };
+  const std::vector<Image> by_default = run(in, 4, shifted);
+  CHECK(same(by_default, run(in, 4, with("2,1", 0.5, -1))));
+  CHECK_FALSE(same(by_default, run(in, 4, with("2,1", 1.0, -1))));
+  CHECK(std::count(log.begin(), log.end(),
+                   "presmooth: sigma 0.5 px in space (the mesh starts along the whole-pixel shift)") == 1);
+  // Along a zoom too; along a fractional shift and on the lattice's mesh
+  // the volume's sigma stays.
+  CHECK(same(run(in, 4, with("0,0,1.02", 1.0, 0.5)), run(in, 4, with("0,0,1.02", 0.5, -1))));
+  CHECK(same(run(in, 4, with("2.5,1", 1.0, 0.5)), run(in, 4, with("2.5,1", 1.0, -1))));
+  CHECK(same(run(in, 4, with("off", 1.0, 0.5)), run(in, 4, with("off", 1.0, -1))));
 }
 
 TEST_CASE("upscale_sequence: one frame is enlarged by the 2D method - bad arguments are refused") {
