@@ -75,7 +75,11 @@ void check_size_limit(const std::string& what, const std::string& size, long lon
   if (count >= 0 && count <= limit) return;
   // The value that allows it, where the count is one (not a header's
   // overflowing claim).
-  const std::string allow = count >= 0 ? "; give " + option + " " + std::to_string(count) + " to allow it" : "";
+  // Past what any machine holds (2^40: a thousand gigapixels or
+  // gigavoxels) the hint would only mislead.
+  const std::string allow = count >= 0 && count <= (1LL << 40)
+                                ? "; give " + option + " " + std::to_string(count) + " to allow it"
+                                : "";
   throw Error(what + " " + size + " exceeds " + option + " " + std::to_string(limit) + allow);
 }
 

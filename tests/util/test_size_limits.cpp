@@ -90,15 +90,15 @@ TEST_CASE("read_volume: the header's voxel count is checked before the data file
   CHECK_THROWS_WITH_AS(read_volume(dir / "v.nhdr", options),
                        ("input '" + (dir / "v.nhdr") + "' 4x5x6 exceeds --max-input-voxels 119; give --max-input-voxels 120 to allow it").c_str(), Error);
   // The data file is not opened for the refusal: a header that claims 2^60
-  // voxels of a data file that holds nothing is refused by its claim.
+  // voxels of a data file that holds nothing is refused by its claim (with
+  // no hint to allow it: no machine holds 2^60 voxels).
   std::ofstream(dir / "bomb.nhdr") << "NRRD0004\ntype: uint8\ndimension: 3\nsizes: 1048576 1048576 1048576\n"
                                       "encoding: raw\ndata file: empty.raw\n";
   std::ofstream(dir / "empty.raw").flush();
   options.max_voxels = default_max_input_voxels();
   CHECK_THROWS_WITH_AS(read_volume(dir / "bomb.nhdr", options),
                        ("input '" + (dir / "bomb.nhdr") + "' 1048576x1048576x1048576 exceeds --max-input-voxels " +
-                        std::to_string(default_max_input_voxels()) + "; give --max-input-voxels " +
-                        std::to_string(1LL << 60) + " to allow it")
+                        std::to_string(default_max_input_voxels()))
                            .c_str(),
                        Error);
   options.max_voxels = 120;
