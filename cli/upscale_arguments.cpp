@@ -24,9 +24,11 @@ UpscaleCommandLine parse_upscale_command_line(int argc, const char* const* argv)
   CLI::App app{"ddtscale: enlarge an image by data-dependent triangulation (DDT).\n"
                "The pixels become a heightfield, triangulated (Delaunay, then edge flips that lower a cost)\n"
                "so that long thin triangles follow the edges; the surface on the mesh is rendered at the\n"
-               "new size. Volumes: give .nrrd/.nhdr files (`ddtscale in.nrrd x.nrrd --help`). Subcommands:\n"
-               "`ddtscale eval --help` (benchmark), `ddtscale grid --help` (scattered points),\n"
-               "`ddtscale scene --help` (test scenes), `ddtscale volume-eval --help`, `ddtscale volume-field --help`.",
+               "new size. Volumes: give .nrrd/.nhdr files (`ddtscale in.nrrd x.nrrd --help`). Image sequences\n"
+               "and videos (frame-rate upsampling): give frame patterns or video files\n"
+               "(`ddtscale in_%04d.png out_%04d.png --help`). Subcommands: `ddtscale eval --help` (benchmark),\n"
+               "`ddtscale grid --help` (scattered points), `ddtscale scene --help` (test scenes),\n"
+               "`ddtscale volume-eval --help`, `ddtscale volume-field --help`, `ddtscale sequence-eval --help`.",
                "ddtscale"};
   app.add_option("input", args.input, "input image (PNG, JPEG, TIFF, EXR, ... anything OpenImageIO reads)")->required();
   app.add_option("output", args.output,
@@ -134,10 +136,11 @@ UpscaleCommandLine parse_upscale_command_line(int argc, const char* const* argv)
       "the total by more, alternating with lawson until neither finds a move.\n"
       "Render: cubic (default) draws a cubic Bézier patch on each triangle from the vertex values and\n"
       "slope-limited gradients (--slopes), smooth like bicubic inside regions, no ringing at edges;\n"
-      "linear draws the paper's piecewise-linear surface. Both reproduce the input samples exactly.\n"
-      "Alpha is interpolated on the same mesh and never drives flips.\n"
-      "Output pixel (X, Y) samples the input at ((X + 0.5) / sx, (Y + 0.5) / sy); outside the samples'\n"
-      "hull it takes the value of the nearest hull point.\n"
+      "linear draws the paper's piecewise-linear surface. Alpha is interpolated on the same mesh and\n"
+      "never drives flips. Output pixel (X, Y) samples the surface at ((X + 0.5) / sx, (Y + 0.5) / sy);\n"
+      "outside the samples' hull it takes the value of the nearest hull point. Then the output is\n"
+      "corrected until --model maps it back onto the input (the default, box: each input pixel the mean\n"
+      "of the output pixels over its area); --model point keeps the surface through the input samples.\n"
       "Examples:\n"
       "  ddtscale in.png out.exr --scale 10\n"
       "  ddtscale in.png side.png --scale 8 --compare bicubic --mesh mesh.svg --mesh-roi 40,40,64,64\n"
