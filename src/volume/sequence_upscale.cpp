@@ -93,12 +93,14 @@ void upscale_sequence(int frames, int width, int height, int channels, const std
   const auto [dx, dy] = volume.time_shear;
   const bool whole_shift = (dx != 0 || dy != 0) && dx == std::round(dx) && dy == std::round(dy);
   const bool along_motion = volume.time_zoom != 0 || whole_shift;
-  if (along_motion && options.presmooth_along_motion >= 0 && volume.method == VolumeMethod::ddt) {
-    volume.presmooth[0] = volume.presmooth[1] = options.presmooth_along_motion;
+  const double narrower = options.presmooth_along_motion;
+  if (along_motion && narrower >= 0 && volume.method == VolumeMethod::ddt &&
+      std::max(volume.presmooth[0], volume.presmooth[1]) > narrower) {
+    volume.presmooth[0] = volume.presmooth[1] = narrower;
     if (volume.log) {
       char line[160];
       std::snprintf(line, sizeof line, "presmooth: sigma %g px in space (the mesh starts along the %s)",
-                    options.presmooth_along_motion, volume.time_zoom != 0 ? "zoom" : "whole-pixel shift");
+                    narrower, volume.time_zoom != 0 ? "zoom" : "whole-pixel shift");
       volume.log(line);
     }
   }

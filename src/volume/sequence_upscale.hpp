@@ -66,9 +66,9 @@ struct SequenceUpscaleOptions {
   // (dominant_motion.hpp), when it has one; volume.time_shear is then set
   // from it. Off: volume.time_shear as given (0, 0: the lattice's mesh).
   bool shear_dominant_motion = true;
-  // The graduated optimization's sigma in space (pixels) when the mesh
-  // starts along a zoom, or along a shift of whole pixels a frame (found,
-  // or given as volume.time_zoom or time_shear): the flips then have only
+  // The graduated optimization's sigma in space (pixels) at most, when the
+  // mesh starts along a zoom, or along a shift of whole pixels a frame
+  // (found, or given as volume.time_zoom or time_shear): the flips then have only
   // the departures from that motion to find, which a narrower smoothing
   // serves better; along a fractional shift it did not (docs/sequences.md,
   // "The graduated optimization"). Negative: volume.presmooth whatever the

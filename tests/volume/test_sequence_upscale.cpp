@@ -241,6 +241,8 @@ TEST_CASE("upscale_sequence: the smoothing narrows to presmooth_along_motion whe
   // the volume's sigma stays.
   CHECK(same(run(in, 4, with("0,0,1.02", 1.0, 0.5)), run(in, 4, with("0,0,1.02", 0.5, -1))));
   CHECK(same(run(in, 4, with("2.5,1", 1.0, 0.5)), run(in, 4, with("2.5,1", 1.0, -1))));
+  // It only narrows: no smoothing stays none.
+  CHECK(same(run(in, 4, with("2,1", 0.0, 0.5)), run(in, 4, with("2,1", 0.0, -1))));
   CHECK(same(run(in, 4, with("off", 1.0, 0.5)), run(in, 4, with("off", 1.0, -1))));
 }
 
