@@ -234,11 +234,12 @@ int run_volume_upscale(int argc, char** argv) {
     ddt::check_volume_output_path(output, input, read_options);
     for (const auto& m : compare) ddt::check_volume_output_path(sibling_path(output, m), input, read_options);
     if (!picture.empty()) ddt::check_output_path(picture, input);
-    const bool time_given = app.count("--time-scale") > 0;
-    if (scale != 0 && !size_spec.empty()) throw ddt::Error("give either --scale or --size, not both");
-    if (scale == 0 && size_spec.empty() && !time_given)
+    const bool time_given = app.count("--time-scale") > 0, scale_given = app.count("--scale") > 0;
+    if (scale_given && !size_spec.empty()) throw ddt::Error("give either --scale or --size, not both");
+    if (!scale_given && size_spec.empty() && !time_given)
       throw ddt::Error("give the magnification: --scale S (and --time-scale T), or --size N, XxYxZ or XxYxZxT");
-    if (scale != 0 && (!(scale > 0) || !std::isfinite(scale))) throw ddt::Error("--scale must be a positive number");
+    // As images say it (--scale 0 included); from here on, 0 means not given.
+    if (scale_given && (!(scale > 0) || !std::isfinite(scale))) throw ddt::Error("--scale must be a positive number");
     if (time_given && (!(time_scale > 0) || !std::isfinite(time_scale)))
       throw ddt::Error("--time-scale must be a positive number");
     const std::array<int, 4> size_given = size_spec.empty() ? std::array<int, 4>{} : parse_size(size_spec);

@@ -95,6 +95,7 @@ run_fail "missing input" "$work/nope.nrrd" "$work/o.nrrd" --scale 2
 run_fail "corrupt input" "$work/corrupt.nrrd" "$work/o.nrrd" --scale 2
 run_fail "six axes" "$work/rgb.nrrd" "$work/o.nrrd" --scale 2
 run_fail "scale zero" "$work/s.nrrd" "$work/o.nrrd" --scale 0
+grep -q "^ddtscale: --scale must be a positive number$" "$work/err.txt" && ok || bad "--scale 0: $(cat "$work/err.txt")"
 run_fail "scale negative" "$work/s.nrrd" "$work/o.nrrd" --scale -3
 run_fail "scale not a number" "$work/s.nrrd" "$work/o.nrrd" --scale abc
 run_fail "no scale" "$work/s.nrrd" "$work/o.nrrd"
