@@ -38,8 +38,9 @@
 //
 // Rows: for each simplex only the samples its sections can reach are
 // visited (the section by the hyperplanes of the fixed coordinates is the
-// convex hull of the crossings of the vertex pairs), so long thin simplices
-// of an optimized mesh cost what their samples cost.
+// convex hull of the crossings of the vertex pairs), in rows along the axis
+// where its bounding box holds the most samples, so long thin simplices of
+// an optimized mesh cost what their samples cost.
 //
 // Inputs:
 //   mesh    valid SimplexMesh<D> (points in input coordinates), hull a box
