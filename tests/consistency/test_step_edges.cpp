@@ -11,6 +11,7 @@
 #include <doctest/doctest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -94,6 +95,27 @@ TEST_CASE("render_step_edges: a box-filtered straight edge is redrawn as the tru
         }
     CHECK(worst_mean < 1e-5);
     CHECK(worst_truth < 0.02);  // the scene's renderer is accurate to about 1e-3; the step is 0.7
+  }
+}
+
+TEST_CASE("render_step_edges: an 8-bit edge with a code of noise is still drawn (its 5x5 pixels leave the 3x3 range "
+          "by a code or two)") {
+  for (double degrees : {17.0, 52.0, 98.0}) {
+    CAPTURE(degrees);
+    const Scene scene = straight_edge(degrees, 0.437, 0.561, 3);
+    const int w = 24, s = 4;
+    Image lr = render_scene(scene, w, w);
+    for (int y = 0; y < w; ++y)  // a code up, down or none, then 8 bits, as a camera's file holds
+      for (int x = 0; x < w; ++x)
+        for (int c = 0; c < 3; ++c) {
+          const int noise = (x * 7 + y * 13 + c * 5) % 3 - 1;
+          lr.at(x, y, c) = std::clamp(std::round(lr.at(x, y, c) * 255) + noise, 0.0f, 255.0f) / 255;
+        }
+    Image out(w * s, w * s, 3);
+    for (int Y = 0; Y < w * s; ++Y)
+      for (int X = 0; X < w * s; ++X)
+        for (int c = 0; c < 3; ++c) out.at(X, Y, c) = lr.at(X / s, Y / s, c);
+    CHECK(render_step_edges(out, lr) >= w / 2);
   }
 }
 
