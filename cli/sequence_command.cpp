@@ -172,7 +172,7 @@ static int run_sequence_upscale(int argc, char** argv) {
   app.add_option("-t,--time-scale", time_scale_text,
                  "frame-rate factor: a whole number N (T input frames become (T - 1) * N + 1, input frame k is "
                  "output frame k * N), or any number or ratio, e.g. 2.5 or 60/24 to make 60 frames a second of 24 "
-                 "(output frame g is the instant g / N: floor((T - 1) * N) + 1 frames); default 1")
+                 "(output frame g is the instant g / N: floor((T - 1) * N) + 1 frames); default 1 (then give --scale or --size)")
       ->capture_default_str();
   app.add_option("-s,--scale", scale, "spatial magnification of every frame, any real > 0 (default 1)");
   app.add_option("--size", size_spec, "output frame size instead of --scale: WxH");
@@ -272,6 +272,10 @@ static int run_sequence_upscale(int argc, char** argv) {
     if (video_in && options.exact_tiles) throw ddt::Error("--exact-tiles needs frame files: a video is read once, in order");
     if (!(scale > 0) || !std::isfinite(scale)) throw ddt::Error("--scale must be a positive number");
     if (scale != 1 && !size_spec.empty()) throw ddt::Error("give either --scale or --size, not both");
+    // As the image command asks for a magnification: a run that changes
+    // nothing is a mistake, not a copy.
+    if (app.count("--time-scale") == 0 && app.count("--scale") == 0 && size_spec.empty())
+      throw ddt::Error("give the frame-rate factor: --time-scale T (and/or --scale S or --size WxH for the frames)");
     const double time_scale = parse_ratio(time_scale_text, "--time-scale", 0, 1024);
 
     std::optional<ddt::FramePattern> in_pattern;

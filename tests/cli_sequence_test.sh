@@ -83,6 +83,9 @@ run_ok "motion off" "$work/in/in_%04d.png" "$work/out/m_%04d.png" --time-scale 4
 grep -q "motion:" "$work/err.txt" && bad "--motion off still estimates the motion" || ok
 grep -q "presmooth:" "$work/err.txt" && bad "--motion off narrows the smoothing" || ok
 run_ok "motion given" "$work/in/in_%04d.png" "$work/out/m_%04d.png" --time-scale 4 --motion -3,2
+run_fail "no factor" "$work/in/in_%04d.png" "$work/out/nf_%04d.png"
+grep -q "give the frame-rate factor" "$work/err.txt" && [ "$(count "$work/out" 'nf_*')" -eq 0 ] && ok ||
+  bad "no --time-scale, --scale or --size: $(cat "$work/err.txt")"
 run_fail "motion bad" "$work/in/in_%04d.png" "$work/out/mb_%04d.png" --time-scale 4 --motion 3
 grep -q "auto, off, DX,DY or DX,DY,ZOOM" "$work/err.txt" && ok || bad "--motion 3: $(cat "$work/err.txt")"
 run_fail "motion trailing" "$work/in/in_%04d.png" "$work/out/mt_%04d.png" --time-scale 4 --motion 3,2x
