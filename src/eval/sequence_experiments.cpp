@@ -93,13 +93,19 @@ std::vector<Image> minterpolate(const std::vector<Image>& frames, int p, int q, 
 std::vector<Image> ddt_frames(const std::vector<Image>& frames, double time_scale, const std::string& method,
                               double presmooth) {
   SequenceUpscaleOptions o;
-  if (presmooth >= 0) o.volume.presmooth = {presmooth, presmooth, 0.0}, o.presmooth_along_motion = -1;
+  if (presmooth >= 0) {  // the sigma asked for, whatever the mesh
+    o.volume.presmooth = {presmooth, presmooth, 0.0};
+    o.presmooth_along_motion = -1;
+  }
   const std::size_t colon = method.find(':');
   const std::string base = method.substr(0, colon);
   if (colon != std::string::npos) o.volume.cost = method.substr(colon + 1);
   o.volume.method = base == "delaunay" ? VolumeMethod::delaunay : VolumeMethod::ddt;
   if (base == "ddt-cubic") o.volume.render = Render::cubic;
-  if (base == "ddt-unsmoothed") o.volume.presmooth = {}, o.presmooth_along_motion = -1;
+  if (base == "ddt-unsmoothed") {
+    o.volume.presmooth = {};
+    o.presmooth_along_motion = -1;
+  }
   if (base == "ddt-all-flips") o.volume.keep_slow_texture = false;
   if (base == "ddt-lattice") o.shear_dominant_motion = false;
   std::vector<Image> out;
