@@ -53,6 +53,40 @@ struct RegionRun {
   double work = 0;  // an estimate of the phase's work: the largest regions start first
 };
 
+// The distinct keys of one flip's lower simplices, in the order first
+// inserted: open addressing over at most Capacity keys (a scan of the keys
+// seen grew with their square, a quarter of a 4D optimization's time).
+template <class Key, int Capacity>
+class KeySet {
+ public:
+  explicit KeySet(int expected) {
+    while (mask_ + 1 < 2 * static_cast<std::size_t>(std::max(0, expected)) && mask_ + 1 < table_size) mask_ = 2 * mask_ + 1;
+    std::fill(slots_.begin(), slots_.begin() + mask_ + 1, std::uint16_t(0));
+  }
+  // False when the key was inserted before.
+  bool insert(const Key& key) {
+    std::uint64_t h = 0x9e3779b97f4a7c15ull;
+    for (const auto id : key) h = (h ^ static_cast<std::uint32_t>(id)) * 0xff51afd7ed558ccdull;
+    for (std::size_t slot = (h >> 40) & mask_;; slot = (slot + 1) & mask_) {
+      const std::uint16_t held = slots_[slot];
+      if (held == 0) {
+        keys_[count_] = key;
+        slots_[slot] = static_cast<std::uint16_t>(++count_);
+        return true;
+      }
+      if (same_ids(keys_[held - 1], key)) return false;
+    }
+  }
+
+ private:
+  static constexpr std::size_t table_size = std::bit_ceil(2u * Capacity);
+  static_assert(Capacity < 65535, "slots hold 16-bit indices");
+  std::array<Key, Capacity> keys_;
+  std::array<std::uint16_t, table_size> slots_;
+  std::size_t mask_ = 15;
+  int count_ = 0;
+};
+
 template <int D>
 class Optimizer {
  public:
@@ -266,7 +300,7 @@ class Optimizer {
       return D <= 3 && found == plan.b_count ? m : ~0u;  // ~0u: no simplex of c is skipped
     };
     using Key = std::array<index_t, D>;
-    std::array<Key, cap*(P - D - 1 > 0 ? P - D - 1 : 1)> seen;
+    KeySet<Key, cap*(P - D - 1 > 0 ? P - D - 1 : 1)> seen_keys(D == 3 ? 0 : n_cells * (P - D - 1));  // 3D keys its edges below
     std::array<std::uint64_t, D == 3 ? cap * (P - D - 1) : 1> seen_edges;
     int n_seen = 0;
     for (int j = 0; j < n_cells; ++j) {
@@ -293,8 +327,7 @@ class Optimizer {
         for (int i = 0, n = 0; i <= D; ++i)
           if (item_masks<D>[m] & (1u << i)) key[n++] = mesh_.vertex(c, i);
         std::sort(key.begin(), key.end());
-        if (std::any_of(seen.begin(), seen.begin() + n_seen, [&](const Key& k) { return same_ids(k, key); })) continue;
-        seen[n_seen++] = key;
+        if (!seen_keys.insert(key)) continue;
         touch(P * c + m);
       }
     }
