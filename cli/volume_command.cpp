@@ -466,14 +466,14 @@ int run_volume_eval(int argc, char** argv) {
   app.add_option("--scale", options.scale, "integer magnification (with --series: in space, default 2)")
       ->capture_default_str()
       ->check(whole_number(1, 16));
-  app.add_flag("--series", series, "run the volume-series experiment (4D, moving-sphere) instead");
+  app.add_flag("--series", series, "run the volume-series experiment (4D; moving-sphere unless --fields names another) instead");
   app.add_option("--steps", series_options.steps, "--series: input time steps")
       ->capture_default_str()
       ->check(whole_number(2, 512));
   app.add_option("--time-scale", series_options.time_scale, "--series: integer magnification in time")
       ->capture_default_str()
       ->check(whole_number(1, 16));
-  app.add_option("--fields", fields, "fields (comma-separated): sphere, hydrogen (--series: moving-sphere)")
+  app.add_option("--fields", fields, "fields (comma-separated): sphere, hydrogen (--series: one of moving-sphere, moving-box, spinning-bar, moving-blob)")
       ->delimiter(',');
   app.add_option("--methods", methods,
                  "methods (comma-separated): trilinear, tricubic, delaunay, ddt:COST (ddt = ddt:variance); "
@@ -521,7 +521,7 @@ int run_volume_eval(int argc, char** argv) {
       if (app.count("--input-ss")) series_options.input_ss = options.input_ss;
       if (app.count("--reference-ss")) series_options.reference_ss = options.reference_ss;
       if (app.count("--fields")) {
-        if (fields.size() != 1) throw ddt::Error("--series runs one field: --fields moving-sphere");
+        if (fields.size() != 1) throw ddt::Error("--series runs one field at a time, e.g. --fields moving-box");
         series_options.field = fields[0];
       }
       if (app.count("--methods")) series_options.methods = methods;
@@ -551,9 +551,9 @@ int run_volume_field(int argc, char** argv) {
   int ss = 8, steps = 16;
   bool list = false;
   CLI::App app{"Write an analytic test volume (box-filtered over each voxel) as NRRD. Values 0..1;\n"
-               "integer types scale them to the type's maximum (uint8: 0..255). Series fields (moving-sphere)\n"
-               "are written as 4-axis NRRDs (x, y, z, t; the time axis of kind time, node-centred: step l is\n"
-               "the instant t = l / (steps - 1)).",
+               "integer types scale them to the type's maximum (uint8: 0..255). Series fields (moving-sphere,\n"
+               "moving-box, spinning-bar, moving-blob) are written as 4-axis NRRDs (x, y, z, t; the time\n"
+               "axis of kind time, node-centred: step l is the instant t = l / (steps - 1)).",
                "ddtscale volume-field"};
   app.add_option("name", name, "field name (see --list)");
   app.add_option("output", output, "output volume (.nrrd or .nhdr)");

@@ -8,9 +8,12 @@
 #   1c. the volume-series experiment (4D: the moving sphere, 32^3 x 16 steps,
 #      x2 in space, x4 in time): docs/volumes/series-experiments.md and
 #      docs/volumes/moving-sphere-x2-t4*.png;
+#   1d. the same experiment on the other series fields (a moving box, a
+#      turning bar, a smooth moving blob): docs/volumes/series-other.md and
+#      docs/volumes/<field>-x2-t4*.png;
 #   2. the benchmark (hydrogen orbital at 32^3, 64^3, 128^3, x2 and x4; time
 #      of each stage and peak memory): docs/volumes/benchmark.md.
-# Usage: scripts/volume_experiments.sh [BUILD_DIR] [experiments|series|benchmark|all]
+# Usage: scripts/volume_experiments.sh [BUILD_DIR] [experiments|series|series-other|benchmark|all]
 # BUILD_DIR defaults to build (configured and built here when missing).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -34,6 +37,19 @@ fi
 if [ "$what" = all ] || [ "$what" = series ]; then
   "$bin" volume-eval --series --size 32 --steps 16 --scale 2 --time-scale 4 \
     --pictures docs/volumes --table docs/volumes/series-experiments.md
+fi
+
+if [ "$what" = all ] || [ "$what" = series-other ]; then
+  # One field a run; the tables joined under one header.
+  other=$(mktemp)
+  for field in moving-box spinning-bar moving-blob; do
+    "$bin" volume-eval --series --fields "$field" --size 32 --steps 16 --scale 2 --time-scale 4 \
+      --methods quadrilinear,tricubic-linear,ddt --picture-methods quadrilinear,tricubic-linear,ddt \
+      --pictures docs/volumes --table "$other.$field" -q
+    if [ ! -s "$other" ]; then cat "$other.$field" >"$other"; else tail -n +3 "$other.$field" >>"$other"; fi
+    rm -f "$other.$field"
+  done
+  mv "$other" docs/volumes/series-other.md
 fi
 
 if [ "$what" = all ] || [ "$what" = benchmark ]; then

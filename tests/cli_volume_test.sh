@@ -150,6 +150,10 @@ run_ok "series --size XxYxZxT" "$work/ms.nrrd" "$work/ms5.nrrd" --size 8x9x10x5 
 [ "$(header sizes "$work/ms5.nrrd")" = "8 9 10 5" ] && ok || bad "series --size: $(header sizes "$work/ms5.nrrd")"
 run_ok "series eval" volume-eval --series --size 6 --steps 3 --methods quadrilinear,ddt --quiet
 grep -q "| moving-sphere | ddt |" "$work/out.txt" && ok || bad "volume-eval --series printed no ddt row"
+run_ok "series eval, another field" volume-eval --series --fields moving-box --size 6 --steps 3 --methods ddt --quiet
+grep -q "| moving-box | ddt |" "$work/out.txt" && ok || bad "volume-eval --series --fields moving-box printed no ddt row"
+run_fail "series eval, two fields" volume-eval --series --fields moving-box,moving-blob --size 6 --steps 3
+run_ok "series field: the blob" volume-field moving-blob "$work/blob.nrrd" --size 6 --steps 3
 run_fail "bad --time-scale" "$work/ms.nrrd" "$work/o.nrrd" --scale 2 --time-scale -1
 run_fail "zero --time-scale" "$work/ms.nrrd" "$work/o.nrrd" --time-scale 0 --scale 2
 run_fail "--time-scale not a number" "$work/ms.nrrd" "$work/o.nrrd" --time-scale fast

@@ -4,6 +4,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -47,6 +48,49 @@ double moving_sphere(double x, double y, double z, double t) {
   return b.distance2 < b.radius * b.radius ? 1.0 : 0.0;
 }
 
+// Signed distance to the box of half-extents h about the origin.
+double box_distance(double x, double y, double z, const double h[3]) {
+  const double qx = std::abs(x) - h[0], qy = std::abs(y) - h[1], qz = std::abs(z) - h[2];
+  const double ox = std::max(qx, 0.0), oy = std::max(qy, 0.0), oz = std::max(qz, 0.0);
+  return std::sqrt(ox * ox + oy * oy + oz * oz) + std::min(std::max({qx, qy, qz}), 0.0);
+}
+
+// A box translating along a diagonal: planar faces, edges and corners
+// moving across every axis of the grid at once.
+double moving_box_distance(double x, double y, double z, double t) {
+  static const double h[3] = {0.16, 0.12, 0.14};
+  return box_distance(x - (0.3 + 0.35 * t), y - (0.35 + 0.25 * t), z - (0.4 + 0.15 * t), h);
+}
+double moving_box(double x, double y, double z, double t) { return moving_box_distance(x, y, z, t) < 0 ? 1.0 : 0.0; }
+
+// A long bar turning about the z axis through the cube's centre: every
+// point of its surface moves at its own speed and direction.
+double spinning_bar_distance(double x, double y, double z, double t) {
+  static const double h[3] = {0.32, 0.07, 0.2};
+  const double angle = 1.0 * t;  // radians over the series
+  const double c = std::cos(angle), s = std::sin(angle);
+  const double dx = x - 0.5, dy = y - 0.5;
+  return box_distance(c * dx + s * dy, -s * dx + c * dy, z - 0.5, h);
+}
+double spinning_bar(double x, double y, double z, double t) {
+  return spinning_bar_distance(x, y, z, t) < 0 ? 1.0 : 0.0;
+}
+
+// A smooth Gaussian blob (sigma 0.1, peak 1) moving along a diagonal: no
+// edge at all, where the separable cubic kernels are at their best.
+constexpr double blob_sigma = 0.1;
+double blob_r2(double x, double y, double z, double t) {
+  const double dx = x - (0.35 + 0.3 * t), dy = y - (0.4 + 0.2 * t), dz = z - (0.45 + 0.1 * t);
+  return dx * dx + dy * dy + dz * dz;
+}
+double moving_blob(double x, double y, double z, double t) {
+  return std::exp(-blob_r2(x, y, z, t) / (2 * blob_sigma * blob_sigma));
+}
+// The level 0.5 is the sphere r = sigma sqrt(2 ln 2).
+double moving_blob_distance(double x, double y, double z, double t) {
+  return std::sqrt(blob_r2(x, y, z, t)) - blob_sigma * std::sqrt(2 * std::log(2.0));
+}
+
 }  // namespace
 
 const std::vector<VolumeSeriesField>& volume_series_fields() {
@@ -54,6 +98,16 @@ const std::vector<VolumeSeriesField>& volume_series_fields() {
       {"moving-sphere",
        "solid ball, centre (0.3, 0.45, 0.5) -> (0.7, 0.55, 0.5), radius 0.15 -> 0.25 as t goes 0 -> 1; 1 inside",
        &moving_sphere, 0.5, &moving_sphere_distance},
+      {"moving-box",
+       "solid box, half-extents (0.16, 0.12, 0.14), centre (0.3, 0.35, 0.4) -> (0.65, 0.6, 0.55) as t goes 0 -> 1; "
+       "1 inside",
+       &moving_box, 0.5, &moving_box_distance},
+      {"spinning-bar",
+       "solid bar, half-extents (0.32, 0.07, 0.2), centred, turning 1 radian about z as t goes 0 -> 1; 1 inside",
+       &spinning_bar, 0.5, &spinning_bar_distance},
+      {"moving-blob",
+       "Gaussian blob, sigma 0.1, peak 1, centre (0.35, 0.4, 0.45) -> (0.65, 0.6, 0.55) as t goes 0 -> 1",
+       &moving_blob, 0.5, &moving_blob_distance},
   };
   return fields;
 }
@@ -61,7 +115,7 @@ const std::vector<VolumeSeriesField>& volume_series_fields() {
 const VolumeSeriesField& find_volume_series_field(const std::string& name) {
   for (const auto& f : volume_series_fields())
     if (f.name == name) return f;
-  throw Error("unknown series field '" + name + "' (valid: moving-sphere)");
+  throw Error("unknown series field '" + name + "' (valid: moving-sphere, moving-box, spinning-bar, moving-blob)");
 }
 
 Volume sample_series_field(const VolumeSeriesField& field, const std::array<int, 4>& size, int ss) {
@@ -99,7 +153,7 @@ const std::vector<VolumeField>& volume_fields() {
 const VolumeField& find_volume_field(const std::string& name) {
   for (const auto& f : volume_fields())
     if (f.name == name) return f;
-  throw Error("unknown field '" + name + "' (valid: sphere, hydrogen; series: moving-sphere)");
+  throw Error("unknown field '" + name + "' (valid: sphere, hydrogen; series: moving-sphere, moving-box, spinning-bar, moving-blob)");
 }
 
 Volume sample_field(const VolumeField& field, int nx, int ny, int nz, int ss) {

@@ -60,6 +60,15 @@ Volume sample_field(const VolumeField& field, int nx, int ny, int nz, int ss);
 //                   whose radius grows from 0.15 to 0.25 as t goes from 0
 //                   to 1 (at 32^3 x 16 steps: 0.85 voxel along x and 0.21
 //                   voxel of radius per step)
+//   moving-box      a solid box, half-extents (0.16, 0.12, 0.14), whose
+//                   centre moves from (0.3, 0.35, 0.4) to (0.65, 0.6, 0.55):
+//                   flat faces, edges and corners crossing every axis
+//   spinning-bar    a solid bar, half-extents (0.32, 0.07, 0.2), centred,
+//                   turning 1 radian about z: each point at its own speed
+//   moving-blob     a Gaussian, sigma 0.1, peak 1, centre (0.35, 0.4, 0.45)
+//                   -> (0.65, 0.6, 0.55): smooth, no edge (level 0.5)
+// The three after the sphere check the 4D method's claims away from the
+// scene they were made on (docs/volumes.md, "Other scenes").
 struct VolumeSeriesField {
   std::string name;
   std::string description;
@@ -70,7 +79,7 @@ struct VolumeSeriesField {
   std::function<double(double x, double y, double z, double t)> surface_distance;
 };
 
-const std::vector<VolumeSeriesField>& volume_series_fields();  // moving-sphere
+const std::vector<VolumeSeriesField>& volume_series_fields();  // moving-sphere, then the others above
 const VolumeSeriesField& find_volume_series_field(const std::string& name);
 Volume sample_series_field(const VolumeSeriesField& field, const std::array<int, 4>& size, int ss);
 

@@ -1,6 +1,6 @@
 #pragma once
 // The volume-series experiment (4D, known truth): a series field
-// (volume_fields.hpp: moving-sphere) sampled at size^3 x steps, enlarged by
+// (volume_fields.hpp: moving-sphere by default) sampled at size^3 x steps, enlarged by
 // `scale` in space and `time_scale` in time (node-centred time: steps
 // become (steps - 1) * time_scale + 1, every input step kept), and compared
 // with the field sampled at the output's size and instants: RMSE and PSNR
