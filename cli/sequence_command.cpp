@@ -143,109 +143,106 @@ bool is_sequence_command(int argc, char** argv) {
   return false;
 }
 
-static int run_sequence_upscale(int argc, char** argv) {
+namespace {
+
+// The sequence command's arguments, as given.
+struct SequenceArguments {
   std::string input, output, size_spec, method = "ddt", cost = "variance", slopes = "mc4";
   std::string render = ddt::to_string(ddt::sequence_volume_defaults().render);
   double scale = 1;
   std::string time_scale_text = "1";
   int threads = 0;
   double tolerance = 1e-9;
-  bool verbose = false, quiet = false;
+  bool verbose = false, quiet = false, flip_slow_texture = false, slow_motion = false;
   ddt::SequenceUpscaleOptions options;
   OutputOptions writing;
   long long max_pixels = ddt::default_max_voxels;
-  CLI::App app{
-      "ddtscale (sequences): frame-rate upsampling and enlargement of an image sequence by data-dependent\n"
-      "tetrahedrization of (x, y, t). The frames are the slices of one space-time volume; a moving edge is a\n"
-      "slanted surface in it, and the Lawson flips align tetrahedra with it, so the new frames interpolate\n"
-      "along the motion (no optical flow, no double images of blended frames).",
-      "ddtscale"};
-  app.add_option("input", input,
+  double presmooth = ddt::sequence_volume_defaults().presmooth[0];
+  const CLI::Option* presmooth_given = nullptr;
+  std::string motion = "auto", fps_text = "24";
+  ddt::VideoEncoding video;
+};
+
+void add_sequence_options(CLI::App& app, SequenceArguments& a) {
+  app.add_option("input", a.input,
                  "input frames, a printf-style pattern: %04d (zero-padded to 4 digits) or %d, e.g. shot/in_%04d.png; "
                  "every frame OpenImageIO reads (PNG, TIFF, EXR, JPEG, ...), consecutive numbers, one size and type; "
                  "or a video file (.mp4, .mov, .mkv, .webm, .m4v, .avi)")
       ->required();
-  app.add_option("output", output,
+  app.add_option("output", a.output,
                  "output frames, a pattern too (e.g. out/out_%04d.png; the format follows its extension), or a "
                  "video file")
       ->required();
-  app.add_option("-t,--time-scale", time_scale_text,
+  app.add_option("-t,--time-scale", a.time_scale_text,
                  "frame-rate factor: a whole number N (T input frames become (T - 1) * N + 1, input frame k is "
                  "output frame k * N), or any number or ratio, e.g. 2.5 or 60/24 to make 60 frames a second of 24 "
                  "(output frame g is the instant g / N: floor((T - 1) * N) + 1 frames); default 1 (then give --scale or --size)")
       ->capture_default_str();
-  app.add_option("-s,--scale", scale, "spatial magnification of every frame, any real > 0 (default 1)");
-  app.add_option("--size", size_spec, "output frame size instead of --scale: WxH");
-  app.add_option("--method", method, "ddt (default) or delaunay (the initial tetrahedrization, no flips)")
+  app.add_option("-s,--scale", a.scale, "spatial magnification of every frame, any real > 0 (default 1)");
+  app.add_option("--size", a.size_spec, "output frame size instead of --scale: WxH");
+  app.add_option("--method", a.method, "ddt (default) or delaunay (the initial tetrahedrization, no flips)")
       ->check(CLI::IsMember({"ddt", "delaunay"}))
       ->capture_default_str();
-  app.add_option("--cost", cost, "flip cost: " + ddt::cost_names_joined())->capture_default_str();
-  app.add_option("--render", render,
+  app.add_option("--cost", a.cost, "flip cost: " + ddt::cost_names_joined())->capture_default_str();
+  app.add_option("--render", a.render,
                  "field drawn on the tetrahedra: linear (the paper's; the default: sharper on moving edges) or cubic "
                  "(a cubic Bézier tetrahedron from the values and limited slopes at its vertices, smoother)")
       ->check(CLI::IsMember(ddt::render_names()))
       ->capture_default_str();
-  app.add_option("--slopes", slopes, "cubic render: slope limiter of the vertex gradients: mc4, mc, central, minmod")
+  app.add_option("--slopes", a.slopes, "cubic render: slope limiter of the vertex gradients: mc4, mc, central, minmod")
       ->check(CLI::IsMember(ddt::slope_limiter_names()))
       ->capture_default_str();
-  double presmooth = ddt::sequence_volume_defaults().presmooth[0];
   char presmooth_help[300];
   std::snprintf(presmooth_help, sizeof presmooth_help,
                 "graduated optimization: flip first on the frames smoothed by a Gaussian of this sigma (pixels), then "
                 "on the frames themselves; 0: flip on the frames only. Default %g, and %g where the mesh starts along "
                 "a zoom or a shift of whole pixels a frame (--motion)",
-                presmooth, ddt::SequenceUpscaleOptions{}.presmooth_along_motion);
-  const CLI::Option* presmooth_given =
-      app.add_option("--presmooth", presmooth, presmooth_help)->check(CLI::Range(0.0, 16.0));
-  app.add_option("--tolerance", tolerance, "a flip must lower the local cost by more than this fraction")
+                a.presmooth, ddt::SequenceUpscaleOptions{}.presmooth_along_motion);
+  a.presmooth_given = app.add_option("--presmooth", a.presmooth, presmooth_help)->check(CLI::Range(0.0, 16.0));
+  app.add_option("--tolerance", a.tolerance, "a flip must lower the local cost by more than this fraction")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
-  bool flip_slow_texture = false;
-  app.add_flag("--flip-slow-texture", flip_slow_texture,
+  app.add_flag("--flip-slow-texture", a.flip_slow_texture,
                "let the flips re-pair fine texture that moves by a pixel or less a frame (by default it stays paired "
                "along time, as frame blending pairs it: docs/sequences.md, \"Slow texture\")");
-  std::string motion = "auto";
-  app.add_option("--motion", motion,
+  app.add_option("--motion", a.motion,
                  "initial mesh: auto (along the frames' dominant motion when they have one of more than a pixel a "
                  "frame: a translation, a pan or one object moving, or else a zoom about the centre), off (the pixel "
                  "lattice's), DX,DY (sheared by that many pixels a frame, rounded to 1/8) or DX,DY,ZOOM (with a "
                  "zoom by the factor ZOOM a frame about the centre, 0.5 to 2, e.g. 0,0,1.02); docs/sequences.md, "
                  "\"Dominant motion\" and \"Zoom\"")
       ->capture_default_str();
-  app.add_option("--time-tile", options.tile_frames,
+  app.add_option("--time-tile", a.options.tile_frames,
                  "input frames reconstructed at once (default: about 4 million input pixels a tile, margins "
                  "included); bounds the memory")
       ->check(whole_number(1));
-  app.add_option("--time-margin", options.margin_frames,
+  app.add_option("--time-margin", a.options.margin_frames,
                  "extra input frames reconstructed on either side of a tile, so its joins match (with "
                  "--exact-tiles: the least)")
       ->check(whole_number(0, 1000))
       ->capture_default_str();
-  app.add_flag("--exact-tiles", options.exact_tiles,
+  app.add_flag("--exact-tiles", a.options.exact_tiles,
                "make the tiles' result the untiled one bit for bit: margins of whole slabs of the optimizer's "
                "schedule, widened as its phases need (several times the work on large frames)");
-  std::string fps_text = "24";
-  app.add_option("--fps", fps_text,
+  app.add_option("--fps", a.fps_text,
                  "frame patterns into a video: the input's frames a second (e.g. 24 or 24000/1001); a video input "
                  "has its own")
       ->capture_default_str();
-  ddt::VideoEncoding video;
-  app.add_option("--crf", video.crf, "video output: quality, 0 (lossless) to 51 (FFmpeg's -crf; 18 looks like the input)")
+  app.add_option("--crf", a.video.crf, "video output: quality, 0 (lossless) to 51 (FFmpeg's -crf; 18 looks like the input)")
       ->check(whole_number(0, 51))
       ->capture_default_str();
-  bool slow_motion = false;
-  app.add_flag("--slow-motion", slow_motion,
+  app.add_flag("--slow-motion", a.slow_motion,
                "video output: keep the input's frame rate, so the video lasts N times longer (no audio); by default "
                "the rate is multiplied by N, the duration and the audio kept");
-  app.add_option("--max-pixels", max_pixels, "refuse outputs with more pixels in all (frames x width x height)")
+  app.add_option("--max-pixels", a.max_pixels, "refuse outputs with more pixels in all (frames x width x height)")
       ->check(whole_number(1))
       ->capture_default_str();
-  app.add_option("--threads", threads,
+  app.add_option("--threads", a.threads,
                  "threads to use (default: all cores); the output is the same for any number")
       ->check(whole_number(1));
-  add_output_options(app, writing, false);
-  app.add_flag("-v,--verbose", verbose, "report tiles, stages, flips and times");
-  app.add_flag("-q,--quiet", quiet, "print nothing but errors");
+  add_output_options(app, a.writing, false);
+  app.add_flag("-v,--verbose", a.verbose, "report tiles, stages, flips and times");
+  app.add_flag("-q,--quiet", a.quiet, "print nothing but errors");
   app.footer(
       "\nNumbering: output frame number = first input number + index; with input frames 1..64 at --time-scale 4\n"
       "the output is frames 1..253, and input frame n is output frame 1 + 4 * (n - 1).\n"
@@ -255,108 +252,156 @@ static int run_sequence_upscale(int argc, char** argv) {
       "Video files (.mp4, .mov, .mkv, .webm, .m4v, .avi) work in place of either pattern, through FFmpeg.\n"
       "Examples: ddtscale shot/in_%04d.png slow/out_%04d.png --time-scale 4\n"
       "          ddtscale clip.mp4 clip_60fps.mp4 --time-scale 60/24");
+}
+
+// Where the frames come from and where they go: a frame pattern or a video
+// file each; the input's frames found, the output's checked before any work.
+struct SequenceEnds {
+  bool video_in = false, video_out = false;
+  std::optional<ddt::FramePattern> in_pattern, out_pattern;
+  std::vector<std::string> input_paths;
+  ddt::VideoInfo in_video;
+  int first_number = 1, frames = 0, out_frames = 0;
+};
+
+bool is_video_end(const std::string& path) { return !ddt::is_frame_pattern(path) && ddt::is_video_path(path); }
+
+// Each end a frame pattern or a video file; throws ddt::Error.
+void check_sequence_ends(const SequenceArguments& a) {
+  if (!is_video_end(a.input) && !ddt::is_frame_pattern(a.input))
+    throw ddt::Error("the input '" + a.input + "' is neither a frame pattern (in_%04d.png) nor a video file");
+  if (!is_video_end(a.output) && !ddt::is_frame_pattern(a.output))
+    throw ddt::Error("the output '" + a.output + "' is neither a frame pattern (out_%04d.png) nor a video file");
+  if (is_video_end(a.input) && a.options.exact_tiles)
+    throw ddt::Error("--exact-tiles needs frame files: a video is read once, in order");
+}
+
+// After check_sequence_ends.
+SequenceEnds sequence_ends(SequenceArguments& a, double time_scale) {
+  SequenceEnds e;
+  e.video_in = is_video_end(a.input);
+  e.video_out = is_video_end(a.output);
+  if (e.video_in) {
+    e.in_video = ddt::probe_video(a.input);
+    e.frames = e.in_video.frames;
+    e.input_paths.push_back(a.input);
+  } else {
+    e.in_pattern = ddt::parse_frame_pattern(a.input);
+    const std::vector<int> numbers = ddt::find_frames(*e.in_pattern);
+    e.first_number = numbers.front(), e.frames = static_cast<int>(numbers.size());
+    for (int n : numbers) e.input_paths.push_back(e.in_pattern->path(n));
+  }
+  e.out_frames = ddt::sequence_output_frames(e.frames, time_scale);
+  if (e.video_out) {
+    ddt::check_not_an_input(a.output, e.input_paths);
+    const std::string in_rate = e.video_in ? e.in_video.rate : a.fps_text;
+    parse_ratio(in_rate, "--fps", 0, 1000);
+    a.video.rate = a.slow_motion ? in_rate : rate_text(in_rate, a.time_scale_text);
+    if (e.video_in && !a.slow_motion && e.in_video.audio) a.video.audio_from = a.input;
+    return e;
+  }
+  e.out_pattern = ddt::parse_frame_pattern(a.output);
+  if (e.in_pattern && e.out_pattern->path(e.first_number) == e.in_pattern->path(e.first_number))
+    throw ddt::Error("the output pattern '" + a.output + "' names the input frames");
+  // Any spelling of an input among the outputs is refused before the work.
+  std::vector<ddt::FileId> input_ids;
+  for (const std::string& path : e.input_paths)
+    if (const auto id = ddt::file_id(path)) input_ids.push_back(*id);
+  for (int k = 0; k < e.out_frames; ++k)
+    if (const auto id = ddt::file_id(e.out_pattern->path(e.first_number + k));
+        id && std::find(input_ids.begin(), input_ids.end(), *id) != input_ids.end())
+      throw ddt::Error("output frame '" + e.out_pattern->path(e.first_number + k) + "' is an input frame");
+  ddt::check_output_path(e.out_pattern->path(e.first_number), e.input_paths.front());
+  ddt::check_encode_options(e.out_pattern->path(e.first_number), a.writing.encode);
+  return e;
+}
+
+// The first frame sizes the job: the output frame size, the size limit and
+// the memory of a tile.
+void size_sequence_job(const SequenceArguments& a, const SequenceEnds& e, double time_scale, int width, int height,
+                       int channels, int& out_w, int& out_h) {
+  if (!a.size_spec.empty()) {
+    parse_width_height(a.size_spec, "--size", 1, 65536, out_w, out_h);
+  } else {
+    out_w = static_cast<int>(std::max(1.0, std::round(width * a.scale)));
+    out_h = static_cast<int>(std::max(1.0, std::round(height * a.scale)));
+  }
+  ddt::check_size_limit("output", std::to_string(e.out_frames) + " frames of " + std::to_string(out_w) + "x" +
+                                      std::to_string(out_h),
+                        ddt::checked_product({e.out_frames, out_w, out_h}), a.max_pixels, "--max-pixels");
+  const int tile = a.options.tile_frames > 0 ? a.options.tile_frames
+                                             : ddt::sequence_tile_frames(width, height, a.options.margin_frames);
+  ddt::check_memory_fits("this job", tile_bytes(width, height, channels, out_w, out_h, std::min(tile, e.frames),
+                                                a.options.margin_frames, time_scale));
+}
+
+// The reconstruction's options from the arguments.
+void set_sequence_options(SequenceArguments& a) {
+  ddt::SequenceUpscaleOptions& options = a.options;
+  options.volume.method = ddt::volume_method_by_name(a.method);
+  options.volume.cost = a.cost;
+  options.volume.relative_tolerance = a.tolerance;
+  options.volume.render = ddt::render_by_name(a.render);
+  options.volume.slopes = ddt::slope_limiter_by_name(a.slopes);
+  options.volume.presmooth = {a.presmooth, a.presmooth, 0.0};
+  if (a.presmooth_given->count() > 0) options.presmooth_along_motion = -1;
+  options.volume.keep_slow_texture = !a.flip_slow_texture;
+}
+
+}  // namespace
+
+static int run_sequence_upscale(int argc, char** argv) {
+  SequenceArguments a;
+  CLI::App app{
+      "ddtscale (sequences): frame-rate upsampling and enlargement of an image sequence by data-dependent\n"
+      "tetrahedrization of (x, y, t). The frames are the slices of one space-time volume; a moving edge is a\n"
+      "slanted surface in it, and the Lawson flips align tetrahedra with it, so the new frames interpolate\n"
+      "along the motion (no optical flow, no double images of blended frames).",
+      "ddtscale"};
+  add_sequence_options(app, a);
   if (const auto status =
           parse_command_line(app, argc, argv, "ddtscale", "ddtscale in_%04d.png out_%04d.png --help"))
     return *status;
 
   try {
-    ddt::find_cost(cost);
-    ddt::set_motion(options, motion);
+    ddt::find_cost(a.cost);
+    ddt::set_motion(a.options, a.motion);
     // Frames come from a pattern or a video file (FFmpeg), and go to either.
-    const bool video_in = !ddt::is_frame_pattern(input) && ddt::is_video_path(input);
-    const bool video_out = !ddt::is_frame_pattern(output) && ddt::is_video_path(output);
-    if (!video_in && !ddt::is_frame_pattern(input))
-      throw ddt::Error("the input '" + input + "' is neither a frame pattern (in_%04d.png) nor a video file");
-    if (!video_out && !ddt::is_frame_pattern(output))
-      throw ddt::Error("the output '" + output + "' is neither a frame pattern (out_%04d.png) nor a video file");
-    if (video_in && options.exact_tiles) throw ddt::Error("--exact-tiles needs frame files: a video is read once, in order");
-    if (!(scale > 0) || !std::isfinite(scale)) throw ddt::Error("--scale must be a positive number");
-    if (scale != 1 && !size_spec.empty()) throw ddt::Error("give either --scale or --size, not both");
+    check_sequence_ends(a);
+    if (!(a.scale > 0) || !std::isfinite(a.scale)) throw ddt::Error("--scale must be a positive number");
+    if (a.scale != 1 && !a.size_spec.empty()) throw ddt::Error("give either --scale or --size, not both");
     // As the image command asks for a magnification: a run that changes
     // nothing is a mistake, not a copy.
-    if (app.count("--time-scale") == 0 && app.count("--scale") == 0 && size_spec.empty())
+    if (app.count("--time-scale") == 0 && app.count("--scale") == 0 && a.size_spec.empty())
       throw ddt::Error("give the frame-rate factor: --time-scale T (and/or --scale S or --size WxH for the frames)");
-    const double time_scale = parse_ratio(time_scale_text, "--time-scale", 0, 1024);
-
-    std::optional<ddt::FramePattern> in_pattern;
-    std::vector<std::string> input_paths;
-    ddt::VideoInfo in_video;
-    int first_number = 1, frames = 0;
-    if (video_in) {
-      in_video = ddt::probe_video(input);
-      frames = in_video.frames;
-      input_paths.push_back(input);
-    } else {
-      in_pattern = ddt::parse_frame_pattern(input);
-      const std::vector<int> numbers = ddt::find_frames(*in_pattern);
-      first_number = numbers.front(), frames = static_cast<int>(numbers.size());
-      for (int n : numbers) input_paths.push_back(in_pattern->path(n));
-    }
-    const int out_frames = ddt::sequence_output_frames(frames, time_scale);
-    std::optional<ddt::FramePattern> out_pattern;
-    if (video_out) {
-      ddt::check_not_an_input(output, input_paths);
-      const std::string in_rate = video_in ? in_video.rate : fps_text;
-      parse_ratio(in_rate, "--fps", 0, 1000);
-      video.rate = slow_motion ? in_rate : rate_text(in_rate, time_scale_text);
-      if (video_in && !slow_motion && in_video.audio) video.audio_from = input;
-    } else {
-      out_pattern = ddt::parse_frame_pattern(output);
-      if (in_pattern && out_pattern->path(first_number) == in_pattern->path(first_number))
-        throw ddt::Error("the output pattern '" + output + "' names the input frames");
-      // Any spelling of an input among the outputs is refused before the work.
-      std::vector<ddt::FileId> input_ids;
-      for (const std::string& path : input_paths)
-        if (const auto id = ddt::file_id(path)) input_ids.push_back(*id);
-      for (int k = 0; k < out_frames; ++k)
-        if (const auto id = ddt::file_id(out_pattern->path(first_number + k));
-            id && std::find(input_ids.begin(), input_ids.end(), *id) != input_ids.end())
-          throw ddt::Error("output frame '" + out_pattern->path(first_number + k) + "' is an input frame");
-      ddt::check_output_path(out_pattern->path(first_number), input_paths.front());
-      ddt::check_encode_options(out_pattern->path(first_number), writing.encode);
-    }
-
+    const double time_scale = parse_ratio(a.time_scale_text, "--time-scale", 0, 1024);
+    const SequenceEnds ends = sequence_ends(a, time_scale);
+    const bool verbose = a.verbose;
     auto log = [&](const std::string& line) {
       if (verbose) std::cerr << line << "\n";
     };
-    threads = ddt::usable_threads(threads);
+    const int threads = ddt::usable_threads(a.threads);
     const auto thread_limit = ddt::limit_threads(threads);
     if (threads > 0) OIIO::attribute("threads", threads);
 
-    // The first frame sizes the job: output size, writability, memory.
     int out_w = 0, out_h = 0;
-    auto size_job = [&](int width, int height, int channels) {
-      if (!size_spec.empty()) {
-        parse_width_height(size_spec, "--size", 1, 65536, out_w, out_h);
-      } else {
-        out_w = static_cast<int>(std::max(1.0, std::round(width * scale)));
-        out_h = static_cast<int>(std::max(1.0, std::round(height * scale)));
-      }
-      ddt::check_size_limit("output", std::to_string(out_frames) + " frames of " + std::to_string(out_w) + "x" +
-                                          std::to_string(out_h),
-                            ddt::checked_product({out_frames, out_w, out_h}), max_pixels, "--max-pixels");
-      const int tile = options.tile_frames > 0 ? options.tile_frames
-                                               : ddt::sequence_tile_frames(width, height, options.margin_frames);
-      ddt::check_memory_fits("this job", tile_bytes(width, height, channels, out_w, out_h, std::min(tile, frames),
-                                                    options.margin_frames, time_scale));
-    };
     ddt::ImageReadLimits limits;
     limits.check = [&](const ddt::ImageHeader& h) {
-      size_job(h.width, h.height, h.channels);
-      if (out_pattern)
-        ddt::check_image_writable(out_pattern->path(first_number), out_w, out_h, h.channels, h.format,
-                                  h.alpha_channel, writing.encode);
+      size_sequence_job(a, ends, time_scale, h.width, h.height, h.channels, out_w, out_h);
+      if (ends.out_pattern)
+        ddt::check_image_writable(ends.out_pattern->path(ends.first_number), out_w, out_h, h.channels, h.format,
+                                  h.alpha_channel, a.writing.encode);
     };
-    auto t0 = ddt::Clock::now();
+    ddt::SequenceUpscaleOptions& options = a.options;
     std::unique_ptr<ddt::VideoReader> reader;
     ddt::ImageFile first;
-    if (video_in) {
-      size_job(in_video.width, in_video.height, 3);
-      reader = std::make_unique<ddt::VideoReader>(input, in_video);
-      if (options.shear_dominant_motion && method == "ddt") {
+    if (ends.video_in) {
+      size_sequence_job(a, ends, time_scale, ends.in_video.width, ends.in_video.height, 3, out_w, out_h);
+      reader = std::make_unique<ddt::VideoReader>(a.input, ends.in_video);
+      if (options.shear_dominant_motion && a.method == "ddt") {
         // The motion's frames from a reader of their own: the main one
         // only goes forward, from the first frame.
-        auto motion_reader = std::make_shared<ddt::VideoReader>(input, in_video);
+        auto motion_reader = std::make_shared<ddt::VideoReader>(a.input, ends.in_video);
         auto next = std::make_shared<int>(0);
         options.motion_frames = [motion_reader, next](int k) {
           if (k < *next) throw ddt::Error("a video's frames are read in order");
@@ -369,29 +414,24 @@ static int run_sequence_upscale(int argc, char** argv) {
       first.format = ddt::SampleFormat::uint16;
       first.alpha_channel = -1;
     } else {
-      first = ddt::read_frame(*in_pattern, first_number, nullptr, limits);
+      first = ddt::read_frame(*ends.in_pattern, ends.first_number, nullptr, limits);
     }
     const int width = first.image.width, height = first.image.height, channels = first.image.channels;
+    const int frames = ends.frames, first_number = ends.first_number;
     log("read: " + std::to_string(frames) + " frames " +
-        (video_in ? "of " + input + " (" + in_video.rate + " a second" + (in_video.audio ? ", audio" : "") + ")"
-                  : std::to_string(first_number) + ".." + std::to_string(first_number + frames - 1)) +
+        (ends.video_in ? "of " + a.input + " (" + ends.in_video.rate + " a second" +
+                             (ends.in_video.audio ? ", audio" : "") + ")"
+                       : std::to_string(first_number) + ".." + std::to_string(first_number + frames - 1)) +
         " of " + std::to_string(width) + "x" + std::to_string(height) + "x" + std::to_string(channels));
-    if (method == "ddt" && channels > ddt::max_cost_channels)
+    if (a.method == "ddt" && channels > ddt::max_cost_channels)
       throw ddt::Error("frames of " + std::to_string(channels) + " channels: the flip costs take at most " +
                        std::to_string(ddt::max_cost_channels));
 
     ddt::Progress progress;
     std::unique_ptr<ddt::ProgressBar> bar;
-    if (!quiet && ddt::ProgressBar::is_terminal(stderr)) bar = std::make_unique<ddt::ProgressBar>(progress, stderr);
+    if (!a.quiet && ddt::ProgressBar::is_terminal(stderr)) bar = std::make_unique<ddt::ProgressBar>(progress, stderr);
     options.progress = &progress;
-    options.volume.method = ddt::volume_method_by_name(method);
-    options.volume.cost = cost;
-    options.volume.relative_tolerance = tolerance;
-    options.volume.render = ddt::render_by_name(render);
-    options.volume.slopes = ddt::slope_limiter_by_name(slopes);
-    options.volume.presmooth = {presmooth, presmooth, 0.0};
-    if (presmooth_given->count() > 0) options.presmooth_along_motion = -1;
-    options.volume.keep_slow_texture = !flip_slow_texture;
+    set_sequence_options(a);
     auto print = [&](const std::string& line) {
       if (!verbose) return;
       if (bar) bar->print(line);
@@ -403,16 +443,16 @@ static int run_sequence_upscale(int argc, char** argv) {
         ddt::scaled_metadata(first.metadata, double(out_w) / width, double(out_h) / height);
     std::unique_ptr<ddt::FrameSequenceWriter> frame_writer;
     std::unique_ptr<ddt::VideoWriter> video_writer;
-    if (video_out) {
-      video_writer = std::make_unique<ddt::VideoWriter>(output, out_w, out_h, video, input_paths);
+    if (ends.video_out) {
+      video_writer = std::make_unique<ddt::VideoWriter>(a.output, out_w, out_h, a.video, ends.input_paths);
     } else {
-      frame_writer = std::make_unique<ddt::FrameSequenceWriter>(*out_pattern, first.format, first.alpha_channel,
-                                                                &metadata, writing.encode, input_paths);
+      frame_writer = std::make_unique<ddt::FrameSequenceWriter>(*ends.out_pattern, first.format, first.alpha_channel,
+                                                                &metadata, a.writing.encode, ends.input_paths);
     }
     int next_frame = 1;  // of a video: read once, in order
     auto read = [&](int k) {
       if (k == 0) return first.image;
-      if (!reader) return ddt::read_frame(*in_pattern, first_number + k, &first).image;
+      if (!reader) return ddt::read_frame(*ends.in_pattern, first_number + k, &first).image;
       if (k != next_frame) throw ddt::Error("a video's frames are read in order");
       ++next_frame;
       return reader->next();
@@ -423,7 +463,7 @@ static int run_sequence_upscale(int argc, char** argv) {
     };
     ddt::SequenceUpscaleStats stats;
     ddt::upscale_sequence(frames, width, height, channels, read, out_w, out_h, time_scale, options, write, &stats);
-    t0 = ddt::Clock::now();
+    const auto t0 = ddt::Clock::now();
     if (video_writer) video_writer->commit();
     else frame_writer->commit();
     if (bar) bar->stop();
@@ -436,11 +476,11 @@ static int run_sequence_upscale(int argc, char** argv) {
                   stats.tiles, stats.flips, stats.seconds_read, stats.seconds_triangulate, stats.seconds_optimize,
                   stats.seconds_render, stats.seconds_write + ddt::seconds_since(t0), ru.ru_maxrss / 1024.0);
     log(line);
-    if (!quiet && !verbose)
-      std::cerr << (video_out ? output + " (" + video.rate + " frames a second)"
-                              : out_pattern->path(first_number) + " .. " +
-                                    out_pattern->path(first_number + out_frames - 1))
-                << ": " << out_frames << " frames of " << out_w << "x" << out_h << "\n";
+    if (!a.quiet && !verbose)
+      std::cerr << (ends.video_out ? a.output + " (" + a.video.rate + " frames a second)"
+                                   : ends.out_pattern->path(first_number) + " .. " +
+                                         ends.out_pattern->path(first_number + ends.out_frames - 1))
+                << ": " << ends.out_frames << " frames of " << out_w << "x" << out_h << "\n";
     return 0;
   } catch (const std::bad_alloc&) {
     std::cerr << "ddtscale: out of memory (try a smaller --time-tile)\n";
