@@ -192,11 +192,11 @@ void add_sequence_options(CLI::App& app, SequenceArguments& a) {
   app.add_option("--slopes", a.slopes, "cubic render: slope limiter of the vertex gradients: mc4, mc, central, minmod")
       ->check(CLI::IsMember(ddt::slope_limiter_names()))
       ->capture_default_str();
-  char presmooth_help[300];
+  char presmooth_help[360];
   std::snprintf(presmooth_help, sizeof presmooth_help,
                 "graduated optimization: flip first on the frames smoothed by a Gaussian of this sigma (pixels), then "
                 "on the frames themselves; 0: flip on the frames only. Default %g, and %g where the mesh starts along "
-                "a zoom or a shift of whole pixels a frame (--motion)",
+                "a zoom or a shift of whole pixels a frame (--motion), or the frames move by a pixel or less a frame",
                 a.presmooth, ddt::SequenceUpscaleOptions{}.presmooth_along_motion);
   a.presmooth_given = app.add_option("--presmooth", a.presmooth, presmooth_help)->check(CLI::Range(0.0, 16.0));
   app.add_option("--tolerance", a.tolerance, "a flip must lower the local cost by more than this fraction")

@@ -149,8 +149,9 @@ upscale_sequence.__doc__ = f"""Frame-rate upsampling (and enlargement) of an ima
     Options (`ddtscale in_%04d.png out_%04d.png --help`), with their defaults:
 {_options_doc(SEQUENCE_OPTIONS)}
     presmooth None: 0.5 pixel where the mesh starts along a zoom or a shift
-    of whole pixels a frame (found, or given by motion=), else 1; a
-    number: that sigma either way.
+    of whole pixels a frame (found, or given by motion=), or where the
+    frames move by a pixel or less a frame, else 1; a number: that sigma
+    either way.
     Raises ValueError with the command line's message on bad input.
     """
 

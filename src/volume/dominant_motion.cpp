@@ -279,7 +279,8 @@ DominantMotion dominant_motion(int frames, const std::function<Image(int)>& fram
     result.agreeing += m.explained && std::abs(m.dx - result.median_dx) <= 0.5 &&
                        std::abs(m.dy - result.median_dy) <= 0.5;
   const bool moving = std::max(std::abs(result.median_dx), std::abs(result.median_dy)) > options.min_shift;
-  if (moving && result.agreeing >= options.min_agreeing_share * pairs) {
+  const bool translation_agreed = result.agreeing >= options.min_agreeing_share * pairs;
+  if (moving && translation_agreed) {
     result.found = true;
     result.dx = to_eighth_pixel(result.median_dx);
     result.dy = to_eighth_pixel(result.median_dy);
@@ -300,12 +301,17 @@ DominantMotion dominant_motion(int frames, const std::function<Image(int)>& fram
   const double zoom_motion = std::abs(result.median_zoom) * std::max(hw, hh);
   // A zoom held over the whole sequence: within a factor of max_total_zoom.
   const double total = std::abs((frames - 1) * std::log1p(std::max(-0.5, result.median_zoom)));
-  if (zoom_motion > options.min_shift && result.zoom_agreeing >= options.min_agreeing_share * pairs &&
-      result.median_zoom > -0.5 && result.median_zoom < 1 && total <= std::log(options.max_total_zoom)) {
+  const bool zoom_agreed = result.zoom_agreeing >= options.min_agreeing_share * pairs && result.median_zoom > -0.5 &&
+                           result.median_zoom < 1 && total <= std::log(options.max_total_zoom);
+  if (zoom_motion > options.min_shift && zoom_agreed) {
     result.found = true;
     result.zoom = to_zoom_step(result.median_zoom);
     result.dx = to_eighth_pixel(mx);
     result.dy = to_eighth_pixel(my);
+  } else {
+    // The pairs agree on a motion too slow to follow (still frames too).
+    result.slow = translation_agreed || zoom_agreed;
+    result.slow_zoom = !translation_agreed && zoom_agreed;
   }
   return result;
 }

@@ -30,7 +30,8 @@
 // The result is the median shift of the pairs, kept when at least
 // min_agreeing_share of the pairs are explained and within 0.5 pixel of it
 // and it moves more than min_shift pixels on some axis (slower motion is
-// what the lattice already pairs well: slow_texture.hpp); else zero. It is
+// what the lattice already pairs well: slow_texture.hpp); else zero (and
+// `slow` says whether the pairs agreed on that slower motion). It is
 // rounded to 1/8 pixel, so that the mesh does not hang on the estimate's
 // last bits (a whole shift stays whole).
 //
@@ -89,6 +90,12 @@ struct DominantMotion {
   int agreeing = 0;                     // of them explained by the median
   double median_zoom = 0;               // the zoom model's median (when no translation was found)
   int zoom_agreeing = 0;                // pairs explained by it
+  // Not found, but the pairs agree on a translation (or, slow_zoom, a zoom)
+  // that moves the frame by min_shift pixels or less a frame; still frames
+  // too. The lattice's mesh serves it; upscale_sequence then narrows the
+  // graduated optimization (sequence_upscale.hpp).
+  bool slow = false;
+  bool slow_zoom = false;
 };
 
 DominantMotion dominant_motion(int frames, const std::function<Image(int)>& frame,

@@ -83,10 +83,17 @@ void upscale_sequence(int frames, int width, int height, int channels, const std
                       "motion: %d of %d frame pairs agree on a zoom of %+.2f %% and (%.2f, %.2f) px a frame: the "
                       "mesh starts along it",
                       motion.zoom_agreeing, motion.pairs, 100 * motion.zoom, motion.dx, motion.dy);
+      else if (motion.slow_zoom)
+        std::snprintf(line, sizeof line,
+                      "motion: %d of %d frame pairs agree on a zoom of %+.2f %%, a pixel or less a frame at the "
+                      "edges: the lattice's mesh",
+                      motion.zoom_agreeing, motion.pairs, 100 * motion.median_zoom);
       else
         std::snprintf(line, sizeof line, "motion: %d of %d frame pairs agree on (%.2f, %.2f) px a frame: %s",
                       motion.agreeing, motion.pairs, motion.median_dx, motion.median_dy,
-                      motion.found ? "the mesh starts sheared along it" : "no dominant motion, the lattice's mesh");
+                      motion.found  ? "the mesh starts sheared along it"
+                      : motion.slow ? "a pixel or less a frame, the lattice's mesh"
+                                    : "no dominant motion, the lattice's mesh");
       volume.log(line);
     }
   }
@@ -94,13 +101,15 @@ void upscale_sequence(int frames, int width, int height, int channels, const std
   const bool whole_shift = (dx != 0 || dy != 0) && dx == std::round(dx) && dy == std::round(dy);
   const bool along_motion = volume.time_zoom != 0 || whole_shift;
   const double narrower = options.presmooth_along_motion;
-  if (along_motion && narrower >= 0 && volume.method == VolumeMethod::ddt &&
+  if ((along_motion || motion.slow) && narrower >= 0 && volume.method == VolumeMethod::ddt &&
       std::max(volume.presmooth[0], volume.presmooth[1]) > narrower) {
     volume.presmooth[0] = volume.presmooth[1] = narrower;
     if (volume.log) {
       char line[160];
-      std::snprintf(line, sizeof line, "presmooth: sigma %g px in space (the mesh starts along the %s)",
-                    narrower, volume.time_zoom != 0 ? "zoom" : "whole-pixel shift");
+      std::snprintf(line, sizeof line, "presmooth: sigma %g px in space (%s)", narrower,
+                    volume.time_zoom != 0 ? "the mesh starts along the zoom"
+                    : whole_shift         ? "the mesh starts along the whole-pixel shift"
+                                          : "the frames move by a pixel or less");
       volume.log(line);
     }
   }

@@ -70,9 +70,12 @@ struct SequenceUpscaleOptions {
   // mesh starts along a zoom, or along a shift of whole pixels a frame
   // (found, or given as volume.time_zoom or time_shear): the flips then have only
   // the departures from that motion to find, which a narrower smoothing
-  // serves better; along a fractional shift it did not (docs/sequences.md,
-  // "The graduated optimization"). Negative: volume.presmooth whatever the
-  // mesh (a sigma the user gave).
+  // serves better; along a fractional shift it did not. And when the
+  // frames agree on a motion of a pixel or less a frame
+  // (DominantMotion::slow): the flips have no far pairing to reach, and
+  // the wider smoothing blurred slow photographs (docs/sequences.md, "The
+  // graduated optimization"). Negative: volume.presmooth whatever the mesh
+  // (a sigma the user gave).
   double presmooth_along_motion = 0.5;
   // Where dominant_motion reads its frames, when not `read` (a source that
   // `read` cannot rewind, such as a video: a second reader). Frames are

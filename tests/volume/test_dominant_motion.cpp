@@ -134,6 +134,11 @@ TEST_CASE("dominant_motion: a zoom about the centre, in and out, with a translat
   CHECK_FALSE(slow.found);
   CHECK(slow.zoom == 0);
   CHECK(std::abs(slow.median_zoom - 0.01) <= 0.003);
+  CHECK(slow.slow);
+  CHECK(slow.slow_zoom);
+  // What is found is not slow.
+  CHECK_FALSE(motion_of(zooming_texture(6, 96, 0.03, 0, 0)).slow);
+  CHECK_FALSE(motion_of(moving_texture(6, 96, 3.0, -2.0)).slow);
   // A dot jumping about a flat frame: no translation explains it, and the
   // blocks have too little texture for a zoom.
   std::vector<Image> flat(4, Image(96, 96, 1, 0.5f));
@@ -148,13 +153,17 @@ TEST_CASE("dominant_motion: none for still frames, motion of a pixel or less, a 
   const DominantMotion still = motion_of(moving_texture(5, 64, 0, 0));
   CHECK_FALSE(still.found);
   CHECK(still.dx == 0);
+  CHECK(still.slow);  // the pairs agree on standing still
   const DominantMotion slow = motion_of(moving_texture(5, 64, 0.75, -0.5));
   CHECK_FALSE(slow.found);  // the lattice pairs it (slow_texture.hpp)
   CHECK(std::abs(slow.median_dx - 0.75) <= 0.25);
+  CHECK(slow.slow);
+  CHECK_FALSE(slow.slow_zoom);
   std::vector<Image> turning;
   for (int t = 0; t <= 16; t += 4) turning.push_back(render_sequence_frame("bar", t, 64, 64));
   const DominantMotion bar = motion_of(turning);
   CHECK_FALSE(bar.found);
+  CHECK_FALSE(bar.slow);  // a turn is no one slow motion either
   CHECK(bar.dx == 0);
   CHECK(bar.dy == 0);
   CHECK_FALSE(motion_of(moving_texture(1, 32, 4, 0)).found);

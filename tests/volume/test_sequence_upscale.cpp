@@ -213,7 +213,7 @@ TEST_CASE("upscale_sequence: the graduated optimization (presmooth) gets a fast 
 }
 
 TEST_CASE("upscale_sequence: the smoothing narrows to presmooth_along_motion where the mesh starts along a zoom or a "
-          "whole-pixel shift, and a sigma given holds everywhere") {
+          "whole-pixel shift, or the frames move by a pixel or less, and a sigma given holds everywhere") {
   const std::vector<Image> in = scene_frames("disk", 4, 4, 32);
   auto with = [](const std::string& motion, double sigma, double along) {
     SequenceUpscaleOptions o;
@@ -245,6 +245,22 @@ TEST_CASE("upscale_sequence: the smoothing narrows to presmooth_along_motion whe
   const std::vector<Image> fractional_wide = run(in, 4, with("2.5,1", 1.0, -1));
   CHECK_FALSE(same(fractional_wide, run(in, 4, with("2.5,1", 0.5, -1))));
   CHECK(same(run(in, 4, with("2.5,1", 1.0, 0.5)), fractional_wide));
+  // Where the frames agree on a motion of a pixel or less (the disk at a
+  // pixel a kept frame), narrowed too; a turning bar, on which no one
+  // motion agrees, keeps the volume's sigma.
+  const std::vector<Image> slow_in = scene_frames("disk", 4, 1, 32);
+  SequenceUpscaleOptions slow = with("auto", 1.0, 0.5);
+  std::vector<std::string> slow_log;
+  slow.volume.log = [&](const std::string& line) { slow_log.push_back(line); };
+  const std::vector<Image> slow_default = run(slow_in, 4, slow);
+  CHECK(std::count(slow_log.begin(), slow_log.end(),
+                   "presmooth: sigma 0.5 px in space (the frames move by a pixel or less)") == 1);
+  CHECK(same(slow_default, run(slow_in, 4, with("auto", 0.5, -1))));
+  CHECK_FALSE(same(slow_default, run(slow_in, 4, with("auto", 1.0, -1))));
+  const std::vector<Image> turning = scene_frames("bar", 4, 4, 32);
+  const std::vector<Image> turning_wide = run(turning, 4, with("auto", 1.0, -1));
+  CHECK_FALSE(same(turning_wide, run(turning, 4, with("auto", 0.5, -1))));
+  CHECK(same(run(turning, 4, with("auto", 1.0, 0.5)), turning_wide));
   // It only narrows: no smoothing stays none.
   CHECK(same(run(in, 4, with("2,1", 0.0, 0.5)), run(in, 4, with("2,1", 0.0, -1))));
   CHECK(same(run(in, 4, with("off", 1.0, 0.5)), run(in, 4, with("off", 1.0, -1))));
