@@ -215,7 +215,6 @@ void add_volume_options(CLI::App& app, VolumeArguments& a) {
 // The checks that need no file, after parsing; sets the given-flags and
 // the size read from --size. Throws ddt::Error.
 void check_volume_arguments(VolumeArguments& a, const CLI::App& app) {
-  ddt::find_cost(a.cost);
   if (!ddt::is_volume_path(a.input))
     throw ddt::Error("the input '" + a.input + "' is not a volume: give a .nrrd or .nhdr file");
   if (!ddt::is_volume_path(a.output))
@@ -379,6 +378,7 @@ int run_volume_upscale(int argc, char** argv) {
   }
 
   try {
+    ddt::find_cost(a.cost);
     const bool same_type = a.type == "same", same_encoding = a.encoding == "same";
     const ddt::VolumeSampleType forced_type =
         same_type ? ddt::VolumeSampleType::float32 : ddt::parse_sample_type(a.type);

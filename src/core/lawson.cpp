@@ -60,7 +60,8 @@ template <class Key, int Capacity>
 class KeySet {
  public:
   explicit KeySet(int expected) {
-    while (mask_ + 1 < 2 * static_cast<std::size_t>(std::max(0, expected)) && mask_ + 1 < table_size) mask_ = 2 * mask_ + 1;
+    const std::size_t wanted = 2 * static_cast<std::size_t>(std::max(0, expected));  // at most half full
+    while (mask_ + 1 < wanted && mask_ + 1 < table_size) mask_ = 2 * mask_ + 1;
     std::fill(slots_.begin(), slots_.begin() + mask_ + 1, std::uint16_t(0));
   }
   // False when the key was inserted before.
@@ -300,7 +301,8 @@ class Optimizer {
       return D <= 3 && found == plan.b_count ? m : ~0u;  // ~0u: no simplex of c is skipped
     };
     using Key = std::array<index_t, D>;
-    KeySet<Key, cap*(P - D - 1 > 0 ? P - D - 1 : 1)> seen_keys(D == 3 ? 0 : n_cells * (P - D - 1));  // 3D keys its edges below
+    // 3D keys its lower simplices, the edges, in one word each (below).
+    KeySet<Key, cap*(P - D - 1 > 0 ? P - D - 1 : 1)> seen_keys(D == 3 ? 0 : n_cells * (P - D - 1));
     std::array<std::uint64_t, D == 3 ? cap * (P - D - 1) : 1> seen_edges;
     int n_seen = 0;
     for (int j = 0; j < n_cells; ++j) {

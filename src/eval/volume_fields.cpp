@@ -153,7 +153,8 @@ const std::vector<VolumeField>& volume_fields() {
 const VolumeField& find_volume_field(const std::string& name) {
   for (const auto& f : volume_fields())
     if (f.name == name) return f;
-  throw Error("unknown field '" + name + "' (valid: sphere, hydrogen; series: moving-sphere, moving-box, spinning-bar, moving-blob)");
+  throw Error("unknown field '" + name +
+              "' (valid: sphere, hydrogen; series: moving-sphere, moving-box, spinning-bar, moving-blob)");
 }
 
 Volume sample_field(const VolumeField& field, int nx, int ny, int nz, int ss) {
