@@ -509,7 +509,9 @@ int run_volume_eval(int argc, char** argv) {
   app.add_option("--time-scale", series_options.time_scale, "--series: integer magnification in time")
       ->capture_default_str()
       ->check(whole_number(1, 16));
-  app.add_option("--fields", fields, "fields (comma-separated): sphere, hydrogen (--series: one of moving-sphere, moving-box, spinning-bar, moving-blob)")
+  app.add_option("--fields", fields,
+                 "fields (comma-separated): " + ddt::volume_field_names() + " (--series: one of " +
+                     ddt::volume_series_field_names() + ")")
       ->delimiter(',');
   app.add_option("--methods", methods,
                  "methods (comma-separated): trilinear, tricubic, delaunay, ddt:COST (ddt = ddt:variance); "
@@ -587,9 +589,10 @@ int run_volume_field(int argc, char** argv) {
   int ss = 8, steps = 16;
   bool list = false;
   CLI::App app{"Write an analytic test volume (box-filtered over each voxel) as NRRD. Values 0..1;\n"
-               "integer types scale them to the type's maximum (uint8: 0..255). Series fields (moving-sphere,\n"
-               "moving-box, spinning-bar, moving-blob) are written as 4-axis NRRDs (x, y, z, t; the time\n"
-               "axis of kind time, node-centred: step l is the instant t = l / (steps - 1)).",
+               "integer types scale them to the type's maximum (uint8: 0..255).\nSeries fields (" +
+                   ddt::volume_series_field_names() +
+                   ") are written as 4-axis NRRDs\n(x, y, z, t; the time axis of kind time, node-centred: "
+                   "step l is the instant t = l / (steps - 1)).",
                "ddtscale volume-field"};
   app.add_option("name", name, "field name (see --list)");
   app.add_option("output", output, "output volume (.nrrd or .nhdr)");

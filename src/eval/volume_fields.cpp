@@ -1,6 +1,7 @@
 #include "eval/volume_fields.hpp"
 
 #include "util/error.hpp"
+#include "util/text.hpp"
 
 #include <tbb/parallel_for.h>
 
@@ -115,7 +116,13 @@ const std::vector<VolumeSeriesField>& volume_series_fields() {
 const VolumeSeriesField& find_volume_series_field(const std::string& name) {
   for (const auto& f : volume_series_fields())
     if (f.name == name) return f;
-  throw Error("unknown series field '" + name + "' (valid: moving-sphere, moving-box, spinning-bar, moving-blob)");
+  throw Error("unknown series field '" + name + "' (valid: " + volume_series_field_names() + ")");
+}
+
+std::string volume_series_field_names() {
+  std::vector<std::string> names;
+  for (const auto& f : volume_series_fields()) names.push_back(f.name);
+  return joined(names);
 }
 
 Volume sample_series_field(const VolumeSeriesField& field, const std::array<int, 4>& size, int ss) {
@@ -150,11 +157,17 @@ const std::vector<VolumeField>& volume_fields() {
   return fields;
 }
 
+std::string volume_field_names() {
+  std::vector<std::string> names;
+  for (const auto& f : volume_fields()) names.push_back(f.name);
+  return joined(names);
+}
+
 const VolumeField& find_volume_field(const std::string& name) {
   for (const auto& f : volume_fields())
     if (f.name == name) return f;
-  throw Error("unknown field '" + name +
-              "' (valid: sphere, hydrogen; series: moving-sphere, moving-box, spinning-bar, moving-blob)");
+  throw Error("unknown field '" + name + "' (valid: " + volume_field_names() + "; series: " +
+              volume_series_field_names() + ")");
 }
 
 Volume sample_field(const VolumeField& field, int nx, int ny, int nz, int ss) {

@@ -42,6 +42,7 @@ struct VolumeField {
 
 const std::vector<VolumeField>& volume_fields();  // sphere, hydrogen
 const VolumeField& find_volume_field(const std::string& name);
+std::string volume_field_names();  // "sphere, hydrogen", for messages and --help
 
 // Box-filtered sampling as above; ss >= 1 point samples per axis per voxel
 // (ss = 1: point samples at the voxel centres). Parallel over slices.
@@ -81,6 +82,7 @@ struct VolumeSeriesField {
 
 const std::vector<VolumeSeriesField>& volume_series_fields();  // moving-sphere, then the others above
 const VolumeSeriesField& find_volume_series_field(const std::string& name);
+std::string volume_series_field_names();  // "moving-sphere, moving-box, ...", for messages and --help
 Volume sample_series_field(const VolumeSeriesField& field, const std::array<int, 4>& size, int ss);
 
 // Root-mean-square difference over all voxels (of every time step);
