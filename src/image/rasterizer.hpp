@@ -32,6 +32,9 @@
 // crossings and every copy draws from that list, the same pixels and bits
 // with no walk (RenderGrid::by_shapes; the rim is still walked).
 //
+// Windows of rows: a RenderPlan keeps what every call would find over the
+// whole mesh, so that a call on a few rows costs about what they hold.
+//
 // A mesh with no triangles (collinear points) is rendered by linear
 // interpolation along the line, clamped at its ends; a single point gives a
 // constant image.
@@ -40,6 +43,7 @@
 #include "image/mesh.hpp"
 #include "util/progress.hpp"
 
+#include <memory>
 #include <vector>
 
 namespace ddt {
@@ -114,5 +118,36 @@ void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vec
 // (a correction to an output held in memory).
 void add_mesh_render_into(Image& out, int out_row, const Mesh2& mesh, const std::vector<float>& values, int C,
                           const RenderGrid& grid, RenderStats* stats = nullptr);
+
+// A mesh prepared for drawing windows of rows of one grid many times (the
+// bands of a streamed output, the steps of the consistent reconstruction):
+// the hull and its rim, the exactness and lattice tests, the vertices by
+// output row and the rows of runs of triangles are found once, instead of
+// on every call; the lattice shapes met are kept across calls. The calls
+// below draw the same pixels and bits as those taking the mesh. It refers
+// to `mesh`, which must outlive it unchanged; one call at a time.
+class RenderPlan {
+ public:
+  // grid: size, scale and origin (its rows are each call's); fill_outside
+  // as render_mesh's (the added render needs it).
+  RenderPlan(const Mesh2& mesh, const RenderGrid& grid, bool fill_outside = true);
+  ~RenderPlan();
+  RenderPlan(RenderPlan&&) noexcept;
+  RenderPlan& operator=(RenderPlan&&) noexcept;
+
+  struct Prepared;
+  const Prepared& prepared() const { return *prepared_; }
+
+ private:
+  std::unique_ptr<Prepared> prepared_;
+};
+
+// render_mesh_into and add_mesh_render_into on rows [first_row, first_row +
+// rows) of the plan's grid (rows < 0: all of them).
+void render_mesh_into(Image& out, int out_row, const RenderPlan& plan, const std::vector<float>& values, int C,
+                      int first_row, int rows, RenderStats* stats = nullptr,
+                      const std::vector<float>* gradients = nullptr, Progress* progress = nullptr);
+void add_mesh_render_into(Image& out, int out_row, const RenderPlan& plan, const std::vector<float>& values, int C,
+                          int first_row, int rows, RenderStats* stats = nullptr);
 
 }  // namespace ddt

@@ -3,6 +3,7 @@
 #include "image/rasterizer.hpp"
 #include "test_support.hpp"
 #include "image/triangulation.hpp"
+#include "util/error.hpp"
 
 #include <doctest/doctest.h>
 
@@ -482,4 +483,82 @@ TEST_CASE("add_mesh_render_into: the same bits as drawing into an image of its o
           add_mesh_render_into(added, out_row, m, values, C, g);
           CHECK(std::memcmp(added.pixels.data(), expected.pixels.data(), added.pixels.size() * sizeof(float)) == 0);
         }
+}
+
+TEST_CASE("RenderPlan: windows of rows drawn through one plan equal the whole render, bit for bit") {
+  // An optimized lattice grid of several chunks of triangles (drawn by
+  // shape at x3 and x4, walked at x2.5), scattered points (walked), a
+  // hull that is not convex and collinear points; linear, cubic and added
+  // renders; windows of 1 to 40 rows, the channels changing between calls
+  // (the plan's shape tables are per channel count).
+  std::vector<Mesh2> meshes;
+  std::mt19937 rng(5);
+  {
+    Mesh2 m = delaunay_triangulation(test::grid_points(90, 50));
+    const std::vector<float> field = random_values(m.points.size(), 1, 9);
+    optimize_lawson(m, field, 1, find_cost("sederberg"));
+    meshes.push_back(std::move(m));
+    std::vector<Point2> scattered;
+    std::uniform_real_distribution<double> u(0.0, 49.0);
+    for (int i = 0; i < 400; ++i) scattered.push_back({u(rng) * 1.8, u(rng)});
+    meshes.push_back(delaunay_triangulation(scattered));
+    meshes.push_back(u_shaped_grid());
+    meshes.push_back(delaunay_triangulation({{0.5, 0.5}, {20.5, 10.5}, {40.5, 20.5}}));
+  }
+  for (std::size_t mi = 0; mi < meshes.size(); ++mi)
+    for (double scale : {3.0, 4.0, 2.5}) {
+      const Mesh2& m = meshes[mi];
+      const RenderGrid g = grid_for(90, 50, static_cast<int>(90 * scale), static_cast<int>(50 * scale));
+      const RenderPlan plan(m, g);
+      for (int mode = 0; mode < 3; ++mode)  // linear, cubic, added
+        for (int C : {3, 1}) {
+          CAPTURE(mi);
+          CAPTURE(scale);
+          CAPTURE(mode);
+          CAPTURE(C);
+          const std::vector<float> values = random_values(m.points.size(), C, 31 + static_cast<unsigned>(mi));
+          std::vector<float> gradients = random_values(m.points.size(), 2 * C, 37);
+          for (float& v : gradients) v -= 0.5f;
+          const std::vector<float>* cubic = mode == 1 ? &gradients : nullptr;
+          Image base(g.width, g.height, C);
+          base.pixels = random_values(base.pixel_count(), C, 41);
+          Image whole = base;
+          if (mode == 2)
+            add_mesh_render_into(whole, 0, m, values, C, g);
+          else
+            render_mesh_into(whole, 0, m, values, C, g, nullptr, true, cubic);
+          Image windows = base;
+          std::uniform_int_distribution<int> height(1, 40);
+          int drawn_rows = 0;
+          for (int first = 0; first < g.height;) {
+            const int rows = std::min(height(rng), g.height - first);
+            Image part(g.width, rows + 1, C);  // drawn at row 1 of an image of its own
+            std::copy_n(&base.pixels[base.index(0, first)], static_cast<std::size_t>(g.width) * C * rows, &part.pixels[part.index(0, 1)]);
+            RenderStats stats;
+            if (mode == 2)
+              add_mesh_render_into(part, 1, plan, values, C, first, rows, &stats);
+            else
+              render_mesh_into(part, 1, plan, values, C, first, rows, &stats, cubic);
+            if (mi != 2) CHECK(stats.uncovered == 0);  // the U's rim reaches over its other arm
+            std::copy_n(&part.pixels[part.index(0, 1)], static_cast<std::size_t>(g.width) * C * rows, &windows.pixels[windows.index(0, first)]);
+            first += rows, drawn_rows += rows;
+          }
+          CHECK(drawn_rows == g.height);
+          CHECK(std::memcmp(windows.pixels.data(), whole.pixels.data(), whole.pixels.size() * sizeof(float)) == 0);
+        }
+    }
+}
+
+TEST_CASE("RenderPlan: refuses what it cannot draw") {
+  const Mesh2 m = delaunay_triangulation(test::grid_points(6, 5));
+  const RenderGrid g = grid_for(6, 5, 18, 15);
+  const std::vector<float> values = random_values(m.points.size(), 1, 3);
+  Image out(18, 15, 1);
+  const RenderPlan no_rim(m, g, false);
+  CHECK_THROWS_AS(add_mesh_render_into(out, 0, no_rim, values, 1, 0, 15), Error);
+  const RenderPlan plan(m, g);
+  CHECK_THROWS_AS(render_mesh_into(out, 0, plan, std::vector<float>(values.begin(), values.end() - 1), 1, 0, 15),
+                  Error);
+  CHECK_THROWS_AS(render_mesh_into(out, 4, plan, values, 1, 0, 15), Error);  // rows beyond the image
+  CHECK_NOTHROW(render_mesh_into(out, 4, plan, values, 1, 3, 11));
 }

@@ -83,7 +83,7 @@ const Shape* ShapeTable::find(const int d1[2], const int d2[2], const Point2& ph
   return &shapes_.back();
 }
 
-bool shapes_repeat(const Scene& scene) {
+bool shapes_repeat(const SceneGeometry& scene) {
   const index_t n = std::min<index_t>(scene.T, 4096), step = scene.T / n;
   std::vector<std::uint64_t> keys;
   keys.reserve(n);

@@ -107,7 +107,7 @@ class ShapeTable {
 // sample of the triangles (an image grid has about 100 shapes in all; a
 // sparse subset of a lattice, each triangle its own, is walked instead:
 // listing pixels once for one use costs more than drawing them).
-bool shapes_repeat(const Scene& scene);
+bool shapes_repeat(const SceneGeometry& scene);
 
 // Draws mesh triangle t of a lattice mesh from its shape: rows [row0, row1)
 // of the grid, to out row - shift. Adds its pixels and pieces to counts.

@@ -13,11 +13,9 @@ namespace ddt::raster {
 // Adds the slabs and corner fans that extend the hull's values outward.
 // Built in input coordinates (distances there define "nearest"), far enough
 // that the output domain is covered.
-void add_rim(Scene& scene) {
+void add_rim(SceneGeometry& scene) {
   const Mesh2& mesh = scene.mesh;
   const RenderGrid& grid = scene.grid;
-  const std::vector<float>& values = scene.values;
-  const int C = scene.C;
   const std::vector<index_t>& hull = scene.hull;
   if (hull.empty()) return;
   std::vector<std::pair<index_t, index_t>> outgoing;  // (hull vertex, its hull half-edge), sorted
@@ -64,25 +62,6 @@ void add_rim(Scene& scene) {
     far_end[k] = add_vertex({pv.x + far * n.x, pv.y + far * n.y}, v);
     add_triangle(v, u, far_start[k]);
     add_triangle(v, far_start[k], far_end[k]);
-    if (scene.gradients) {
-      // The slab's value is the hull edge's cubic at the nearest edge point,
-      // a function of t, the position along u->v. In (v, u, Fu), t = l0; in
-      // (v, Fu, Fv), t = l0 + l2. A Bézier triangle of a function of
-      // l0 (+ l2) has control value d[i] (d[i + k]) at index ijk.
-      for (int pass = 0; pass < 2; ++pass)
-        for (int c = 0; c < C; ++c) {
-          const float* gu = &(*scene.gradients)[(static_cast<std::size_t>(u) * C + c) * 2];
-          const float* gv = &(*scene.gradients)[(static_cast<std::size_t>(v) * C + c) * 2];
-          const double dx = pv.x - pu.x, dy = pv.y - pu.y;
-          const double zu = values[static_cast<std::size_t>(u) * C + c], zv = values[static_cast<std::size_t>(v) * C + c];
-          const double d[4] = {zu, zu + (gu[0] * dx + gu[1] * dy) / 3, zv - (gv[0] * dx + gv[1] * dy) / 3, zv};
-          // order: 300, 030, 003, 210, 120, 021, 012, 102, 201, 111 as (i, k) of l0, l2 powers
-          const int ik[10][2] = {{3, 0}, {0, 0}, {0, 3}, {2, 0}, {1, 0}, {0, 1}, {0, 2}, {1, 2}, {2, 1}, {1, 1}};
-          std::array<double, 10> b;
-          for (int q = 0; q < 10; ++q) b[q] = d[pass == 0 ? ik[q][0] : ik[q][0] + ik[q][1]];
-          scene.rim_patches.push_back(b);
-        }
-    }
   }
   const double max_piece = M_PI / 3;  // keeps each fan triangle's far side beyond `far` * cos(30deg)
   double min_turn = 0, total_turn = 0;
@@ -106,13 +85,7 @@ void add_rim(Scene& scene) {
         const Point2 dir{n_in.x * ca - n_in.y * sa, n_in.x * sa + n_in.y * ca};
         next_far = add_vertex({pv.x + far * dir.x, pv.y + far * dir.y}, v);
       }
-      add_triangle(v, previous, next_far);
-      if (scene.gradients)
-        for (int c = 0; c < C; ++c) {
-          std::array<double, 10> b;
-          b.fill(values[static_cast<std::size_t>(v) * C + c]);
-          scene.rim_patches.push_back(b);
-        }
+      add_triangle(v, previous, next_far);  // the fan's value: v's, as make_rim_patches reads it
       previous = next_far;
     }
   }
@@ -145,6 +118,46 @@ void add_rim(Scene& scene) {
       ++i;
     }
   std::sort(scene.hull_twin.begin(), scene.hull_twin.end());
+}
+
+std::vector<std::array<double, 10>> make_rim_patches(const Scene& scene) {
+  const SceneGeometry& geometry = scene.geometry;
+  const Mesh2& mesh = scene.mesh;
+  const std::vector<float>& values = scene.values;
+  const int C = scene.C;
+  const std::size_t slabs = 2 * geometry.hull.size(), triangles = geometry.rim_tris.size() / 3;
+  std::vector<std::array<double, 10>> patches;
+  patches.reserve(triangles * C);
+  // Slabs: hull edge k's are rim triangles 2k (v, u, Fu) and 2k + 1 (v, Fu,
+  // Fv), whose value is the hull edge's cubic at the nearest edge point, a
+  // function of t, the position along u->v: t = l0 in the first, l0 + l2
+  // in the second. A Bézier triangle of a function of l0 (+ l2) has
+  // control value d[i] (d[i + k]) at index ijk.
+  for (const index_t e : geometry.hull) {
+    const index_t u = mesh.tri[e], v = mesh.tri[next_edge(e)];
+    const Point2 &pu = mesh.points[u], &pv = mesh.points[v];
+    for (int pass = 0; pass < 2; ++pass)
+      for (int c = 0; c < C; ++c) {
+        const float* gu = &(*scene.gradients)[(static_cast<std::size_t>(u) * C + c) * 2];
+        const float* gv = &(*scene.gradients)[(static_cast<std::size_t>(v) * C + c) * 2];
+        const double dx = pv.x - pu.x, dy = pv.y - pu.y;
+        const double zu = values[static_cast<std::size_t>(u) * C + c], zv = values[static_cast<std::size_t>(v) * C + c];
+        const double d[4] = {zu, zu + (gu[0] * dx + gu[1] * dy) / 3, zv - (gv[0] * dx + gv[1] * dy) / 3, zv};
+        // order: 300, 030, 003, 210, 120, 021, 012, 102, 201, 111 as (i, k) of l0, l2 powers
+        const int ik[10][2] = {{3, 0}, {0, 0}, {0, 3}, {2, 0}, {1, 0}, {0, 1}, {0, 2}, {1, 2}, {2, 1}, {1, 1}};
+        std::array<double, 10> b;
+        for (int q = 0; q < 10; ++q) b[q] = d[pass == 0 ? ik[q][0] : ik[q][0] + ik[q][1]];
+        patches.push_back(b);
+      }
+  }
+  // Fans: constant, the value of their first corner (the hull vertex).
+  for (std::size_t t = slabs; t < triangles; ++t)
+    for (int c = 0; c < C; ++c) {
+      std::array<double, 10> b;
+      b.fill(values[static_cast<std::size_t>(geometry.rim_tris[3 * t]) * C + c]);
+      patches.push_back(b);
+    }
+  return patches;
 }
 
 std::array<double, 10> scene_patch(const Scene& scene, index_t t, const index_t i[3], int c) {

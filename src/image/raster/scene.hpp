@@ -26,26 +26,20 @@ inline int tie_side(const Point2& u, const Point2& v) {
   return core::perturbed_tie<2>({core::Vec<2>{u.x, u.y}, core::Vec<2>{v.x, v.y}});
 }
 
-// The surface to draw: the mesh's triangles, then the rim's (slabs and
+// The surface's geometry: the mesh's triangles, then the rim's (slabs and
 // fans outside the hull). Vertex ids below V are the mesh's; id V + i is
 // rim vertex i, which carries the value (and gradient) of mesh vertex
-// rim_source[i].
-struct Scene {
-  Scene(const Mesh2& m, const std::vector<float>& v, int channels, const RenderGrid& g)
-      : mesh(m), values(v), C(channels), grid(g) {}
+// rim_source[i]. It depends on the mesh and the grid only, so a
+// RenderPlan keeps it for every call (rasterizer.hpp).
+struct SceneGeometry {
+  SceneGeometry(const Mesh2& m, const RenderGrid& g) : mesh(m), grid(g) {}
 
   const Mesh2& mesh;
-  const std::vector<float>& values;
-  int C;
-  const RenderGrid& grid;
-  const std::vector<float>* gradients = nullptr;  // cubic mode
-  bool add = false;  // linear mode: values added to the pixels' own (add_mesh_render_into)
+  RenderGrid grid;  // its rows unused
   index_t V = 0, T = 0;
   std::vector<Point2> rim_points;  // input coordinates
   std::vector<index_t> rim_source;
   std::vector<index_t> rim_tris;   // counter-clockwise triples
-  // Cubic mode: the Bézier control values of each rim triangle, C each.
-  std::vector<std::array<double, 10>> rim_patches;
   // Exactness: when every drawn coordinate is a multiple of 2^-10 below 2^15
   // in magnitude (and pixel centres are integers below 2^15), edge functions
   // at pixel centres are exact in double: differences are multiples of
@@ -72,7 +66,6 @@ struct Scene {
   // memory to allocate (fresh pages cost more than the arithmetic).
   Point2 pos(index_t v) const { return transform(input_point(v)); }
   index_t source(index_t v) const { return v < V ? v : rim_source[v - V]; }
-  const float* value(index_t v) const { return &values[static_cast<std::size_t>(source(v)) * C]; }
   bool exact(index_t v) const { return v < V ? mesh_exact : rim_exact[v - V] != 0; }
 
   // Half-edges: 3t + k runs from corner k of triangle t to corner k + 1
@@ -91,6 +84,33 @@ struct Scene {
     const auto it = std::lower_bound(hull_twin.begin(), hull_twin.end(), std::make_pair(e, index_t(-1)));
     return it != hull_twin.end() && it->first == e ? it->second : no_edge;
   }
+};
+
+// One drawing of the geometry: the vertices' values (and gradients).
+struct Scene {
+  Scene(const SceneGeometry& g, const std::vector<float>& v, int channels)
+      : geometry(g), mesh(g.mesh), grid(g.grid), V(g.V), T(g.T), values(v), C(channels) {}
+
+  const SceneGeometry& geometry;
+  const Mesh2& mesh;
+  const RenderGrid& grid;
+  index_t V, T;
+  const std::vector<float>& values;
+  int C;
+  const std::vector<float>* gradients = nullptr;  // cubic mode
+  bool add = false;  // linear mode: values added to the pixels' own (add_mesh_render_into)
+  // Cubic mode: the Bézier control values of each rim triangle, C each.
+  std::vector<std::array<double, 10>> rim_patches;
+
+  index_t triangle_count() const { return geometry.triangle_count(); }
+  void corners(index_t t, index_t out[3]) const { geometry.corners(t, out); }
+  const Point2& input_point(index_t v) const { return geometry.input_point(v); }
+  Point2 pos(index_t v) const { return geometry.pos(v); }
+  index_t source(index_t v) const { return geometry.source(v); }
+  const float* value(index_t v) const { return &values[static_cast<std::size_t>(source(v)) * C]; }
+  bool exact(index_t v) const { return geometry.exact(v); }
+  index_t tail(index_t e) const { return geometry.tail(e); }
+  index_t twin(index_t e) const { return geometry.twin(e); }
 };
 
 // floor and ceil for values well inside the int range (pixel coordinates,
@@ -113,8 +133,11 @@ inline double clamp_pixels(double v) { return std::clamp(v, -1e9, 1e9); }
 inline bool exact_coordinate(double c) { return core::on_lattice(c, 10, 32768.0); }
 
 // Adds the slabs and corner fans that extend the hull's values outward
-// (raster/rim.cpp). Precondition: scene.hull set.
-void add_rim(Scene& scene);
+// (raster/rim.cpp). Precondition: geometry.hull set.
+void add_rim(SceneGeometry& geometry);
+// Cubic mode: the rim triangles' patches for the scene's values and
+// gradients (Scene::rim_patches).
+std::vector<std::array<double, 10>> make_rim_patches(const Scene& scene);
 
 // The cubic patch of scene triangle t (corners i) for channel c.
 std::array<double, 10> scene_patch(const Scene& scene, index_t t, const index_t i[3], int c);
