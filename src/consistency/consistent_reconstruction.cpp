@@ -8,9 +8,12 @@
 #include "util/timing.hpp"
 #include "consistency/input_statistics.hpp"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 namespace ddt {
 namespace {
@@ -91,12 +94,11 @@ void make_consistent(Image& out, const Mesh2& mesh, const Image& src, const Cons
     surface.height = out_h;
     surface.scale_x = static_cast<double>(out.width) / W;
     surface.scale_y = static_cast<double>(out_h) / H;
-    surface.first_row = rows.out_origin;
-    surface.rows = out.height;
+    const RenderPlan plan(mesh, surface);
     std::vector<float> values(residual.size());
     for (int k = 0; k < options.mesh_steps; ++k) {
       std::transform(residual.begin(), residual.end(), values.begin(), [](double v) { return static_cast<float>(v); });
-      add_mesh_render_into(out, 0, mesh, values, C, surface);
+      add_mesh_render_into(out, 0, plan, values, C, rows.out_origin, out.height);
       residual_of(out, src, acquisition, rows, residual);
       ++local.mesh_steps;
     }
@@ -163,6 +165,218 @@ void make_consistent(Image& out, const Mesh2& mesh, const Image& src, const Cons
       hand_out(first, std::min(rows.out_end, first + band_out_rows));
   }
   local.seconds_render = seconds_since(t0);
+  if (stats) *stats = local;
+}
+
+bool make_consistent_streams(const AcquisitionModel& model, int W, int H, int out_w, int out_h) {
+  return kept_exactly(model, W, H, out_w, out_h);
+}
+
+namespace {
+
+// Rows [origin, origin + capacity) of an array at input resolution
+// (row_size values a row), for a wavefront: rows it has left behind make
+// room for the rows ahead.
+struct RowRing {
+  RowRing(std::size_t row_size, int capacity) : values(row_size * capacity), row_size(row_size), capacity(capacity) {}
+  std::vector<double> values;
+  std::size_t row_size;
+  int capacity, origin = 0;
+
+  double* row(int y) { return values.data() + row_size * (y - origin); }
+  // Rows up to `end` made room for, keeping rows from `keep` on.
+  void make_room(int end, int keep) {
+    if (end - origin <= capacity) return;
+    std::copy(values.begin() + static_cast<std::ptrdiff_t>(row_size * (keep - origin)), values.end(), values.begin());
+    origin = keep;
+    if (end - origin > capacity) throw Error("the consistent reconstruction: a wavefront overran");
+  }
+  std::vector<double> rows(int first, int end) const {
+    return {values.begin() + static_cast<std::ptrdiff_t>(row_size * (first - origin)),
+            values.begin() + static_cast<std::ptrdiff_t>(row_size * (end - origin))};
+  }
+};
+
+}  // namespace
+
+void make_consistent_streamed(int out_width, int out_height, const std::vector<float>& values,
+                              const std::vector<float>* gradients, const Mesh2& mesh, const Image& src,
+                              const ConsistencyOptions& options, ConsistencyStats* stats, RenderStats* render_stats) {
+  if (!options.output_rows) throw Error("the consistent reconstruction: nowhere to hand the rows");
+  if (options.band.image_height > 0 || options.band.out_height > 0)
+    throw Error("the consistent reconstruction: a streamed surface is the whole image's");
+  const int W = src.width, H = src.height, C = src.channels;
+  RenderGrid surface_grid;
+  surface_grid.width = out_width;
+  surface_grid.height = out_height;
+  surface_grid.scale_x = static_cast<double>(out_width) / W;
+  surface_grid.scale_y = static_cast<double>(out_height) / H;
+  double surface_seconds = 0;
+  if (!make_consistent_streams(options.model, W, H, out_width, out_height)) {
+    const auto t = std::chrono::steady_clock::now();
+    Image out(out_width, out_height, C);
+    render_mesh_into(out, 0, mesh, values, C, surface_grid, render_stats, true, gradients);
+    surface_seconds = seconds_since(t);
+    make_consistent(out, mesh, src, options, stats);
+    if (stats) stats->seconds_surface = surface_seconds;
+    return;
+  }
+  if (C > max_channels) throw Error("the consistent reconstruction takes at most 16 channels");
+  if (mesh.points.size() != static_cast<std::size_t>(W) * H)
+    throw Error("the consistent reconstruction: the mesh is not the pixel grid");
+  InputStatistics own;
+  if (!options.statistics) own = input_statistics(src);
+  const InputStatistics& statistics = options.statistics ? *options.statistics : own;
+  ConsistencyStats local;
+  auto t0 = std::chrono::steady_clock::now();
+  const Acquisition acquisition(options.model, W, H, out_width, out_height);
+  const GridSurface grid(W, H, out_width, out_height, options.model);
+  const FootprintPixels footprints = footprint_pixels(W, H, out_width, out_height);
+  const std::vector<int>& row_of = footprints.first_y;  // output rows of input row j: [row_of[j], row_of[j + 1])
+  // The surface's and the mesh steps' render; where windows keep its bits.
+  std::optional<RenderPlan> plan(std::in_place, mesh, surface_grid);
+  local.seconds_operator = seconds_since(t0);
+
+  // Input rows [0, drawn) have their output rows drawn, [0, residual[k]) the
+  // residual after k mesh steps, [0, stepped[k]) k mesh steps added,
+  // [0, solved) the grid correction, [0, finished) the last steps done and
+  // handed out, [0, checked) the solve's residual measured. A step runs on
+  // the rows whose inputs are finished: the residual on its footprints
+  // (box: its own output rows), a mesh step within a triangle's height of
+  // the residual before it (the vertices of the triangles crossing a row),
+  // the grid solve within its reach, the grid correction a row (its
+  // bilinear surface), the measure two.
+  const int K = options.mesh_steps, mesh_reach = triangle_rows(mesh) + 2, solve_reach = grid.reach();
+  const int lag = K * mesh_reach + solve_reach + 2;
+  const int step = std::max(32, lag);  // input rows drawn at a time
+  int drawn = 0, solved = 0, finished = 0, checked = 0;
+  std::vector<int> residual_done(K + 1, 0), stepped(K + 1, 0);
+  const std::size_t row_size = static_cast<std::size_t>(W) * C;
+  // The values of mesh step k + 1 (the residual after k steps, as floats,
+  // by vertex); the last residual and the grid correction, by rows.
+  std::vector<std::vector<float>> step_values(K);
+  for (auto& v : step_values) v.assign(row_size * H, 0.0f);
+  const int ring_rows = std::min(H, lag + solve_reach + step + 8);
+  RowRing last_residual(row_size, ring_rows), delta(row_size, ring_rows);
+  std::vector<double> acquired, solved_rows, acquired_delta;
+  // Output rows [window_origin, window_origin + window.height) of which
+  // [row_of[finished], drawn_rows) are in use; finished rows make room.
+  const int window_rows = std::min(out_height, row_of[std::min(H, lag + step + 4)] + 1);
+  Image window(out_width, window_rows, C);
+  local.held_rows = window_rows;
+  int window_origin = 0, drawn_rows = 0;
+  const int band_out_rows = std::max(1, options.output_band_rows);
+  if (options.progress) options.progress->begin("consistency", H);
+
+  double solve_seconds = 0, finish_seconds = 0;
+  while (finished < H) {
+    auto t = std::chrono::steady_clock::now();
+    // The surface's next rows, cut where its render keeps the whole
+    // image's bits; then the input rows whose footprints are all drawn.
+    const int cut = std::max(drawn_rows + 1, plan->window_boundary(row_of[std::min(H, drawn + step)]));
+    if (cut - window_origin > window.height) {
+      const int keep = row_of[finished];
+      const std::ptrdiff_t row_floats = static_cast<std::ptrdiff_t>(out_width) * C;
+      std::copy(window.pixels.begin() + row_floats * (keep - window_origin),
+                window.pixels.begin() + row_floats * (drawn_rows - window_origin), window.pixels.begin());
+      window_origin = keep;
+      if (cut - window_origin > window.height) throw Error("the consistent reconstruction: a wavefront overran");
+    }
+    RenderStats rows_stats;
+    render_mesh_into(window, drawn_rows - window_origin, *plan, values, C, drawn_rows, cut - drawn_rows, &rows_stats,
+                     gradients);
+    if (render_stats) *render_stats = rows_stats;
+    drawn_rows = cut;
+    while (drawn < H && row_of[drawn + 1] <= drawn_rows) ++drawn;
+    stepped[0] = drawn;
+    surface_seconds += seconds_since(t);
+    t = std::chrono::steady_clock::now();
+    // What the rings keep: the solve's reach before the next rows it
+    // solves, the rows the correction and the measure still read.
+    const int keep = std::max(0, std::min({solved - solve_reach, finished - 1, checked - 2}));
+    for (int k = 0; k <= K; ++k) {
+      if (stepped[k] > residual_done[k]) {
+        const int a = residual_done[k], b = stepped[k];
+        acquisition.apply(window, window_origin, a, b, acquired);
+        if (k == K) last_residual.make_room(b, keep);
+        std::vector<double> row_max(b - a, 0.0);
+        tbb::parallel_for(a, b, [&](int y) {
+          const std::size_t first = row_size * (y - a);
+          for (std::size_t i = first; i < first + row_size; ++i) {
+            const std::size_t at = row_size * a + i;
+            const double r = double(src.pixels[at]) - acquired[i];
+            row_max[y - a] = std::max(row_max[y - a], std::abs(r));
+            if (k < K) step_values[k][at] = static_cast<float>(r);
+            else last_residual.row(a)[i] = r;
+          }
+        });
+        if (k == 0) local.residual_before = std::max(local.residual_before, max_abs(row_max));
+        residual_done[k] = b;
+      }
+      if (k == K) break;
+      const int ready = residual_done[k] == H ? H : std::max(stepped[k + 1], residual_done[k] - mesh_reach);
+      if (ready > stepped[k + 1]) {
+        const int first = row_of[stepped[k + 1]];
+        add_mesh_render_into(window, first - window_origin, *plan, step_values[k], C, first, row_of[ready] - first);
+        stepped[k + 1] = ready;
+      }
+    }
+    if (plan && stepped[K] == H) {  // the mesh is read no more
+      local.mesh_steps = K;
+      plan.reset();
+      std::vector<std::vector<float>>().swap(step_values);
+      if (options.mesh_done) options.mesh_done();
+    }
+    const int solvable = residual_done[K] == H ? H : std::max(solved, residual_done[K] - solve_reach);
+    if (solvable > solved) {
+      const int first = std::max(0, solved - solve_reach), end = std::min(H, solvable + solve_reach);
+      grid.solve_rows(last_residual.rows(first, end), solved_rows, C, first, end, solved, solvable);
+      delta.make_room(solvable, keep);
+      std::copy(solved_rows.begin(), solved_rows.end(), delta.row(solved));
+      solved = solvable;
+    }
+    // The solve's residual, max |r - G delta|, on the rows whose delta
+    // rows within two are solved.
+    const int checkable = solved == H ? H : std::max(checked, solved - 2);
+    if (checkable > checked) {
+      const int first = std::max(0, checked - 2), end = std::min(H, checkable + 2);
+      grid.acquire(delta.rows(first, end), acquired_delta, C, first, end);
+      const double* r = last_residual.row(checked);
+      const double* g = acquired_delta.data() + row_size * (checked - first);
+      for (std::size_t i = 0; i < row_size * (checkable - checked); ++i) {
+        local.residual_mesh = std::max(local.residual_mesh, std::abs(r[i]));
+        local.residual_after = std::max(local.residual_after, std::abs(r[i] - g[i]));
+      }
+      checked = checkable;
+    }
+    solve_seconds += seconds_since(t);
+    t = std::chrono::steady_clock::now();
+    const int finishable = solved == H ? H : std::max(finished, solved - 1);
+    if (finishable > finished) {
+      // The last steps as make_consistent's, on the window's rows.
+      const RowBand band{0, H, window_origin, out_height};
+      grid.add_to(window, delta.values, row_of[finished], row_of[finishable], window_origin, delta.origin);
+      if (options.step_edges)
+        local.step_edge_footprints += StepEdgeRenderer(src, statistics, band).render(window, finished, finishable);
+      if (options.limit_halos)
+        local.halo_footprints += HaloLimiter(src, statistics, band).limit(window, finished, finishable);
+      const std::ptrdiff_t row_floats = static_cast<std::ptrdiff_t>(out_width) * C;
+      for (int first = row_of[finished]; first < row_of[finishable]; first += band_out_rows) {
+        const int end = std::min(row_of[finishable], first + band_out_rows);
+        Image part;
+        part.width = out_width, part.height = end - first, part.channels = C;
+        part.pixels.assign(window.pixels.begin() + row_floats * (first - window_origin),
+                           window.pixels.begin() + row_floats * (end - window_origin));
+        options.output_rows(std::move(part), first);
+      }
+      finished = finishable;
+      if (options.progress) options.progress->set(finished);
+    }
+    finish_seconds += seconds_since(t);
+  }
+  local.seconds_surface = surface_seconds;
+  local.seconds_solve = solve_seconds;
+  local.seconds_render = finish_seconds;
   if (stats) *stats = local;
 }
 

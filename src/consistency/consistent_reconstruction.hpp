@@ -48,6 +48,8 @@
 #include "consistency/input_statistics.hpp"
 #include "util/image.hpp"
 #include "image/mesh.hpp"
+#include "image/rasterizer.hpp"
+#include "util/progress.hpp"
 
 #include <functional>
 
@@ -73,6 +75,9 @@ struct ConsistencyOptions {
   // the whole input's statistics (default: src's own).
   RowBand band;
   const InputStatistics* statistics = nullptr;
+  // make_consistent_streamed's wavefront: its finished input rows, as a
+  // stage "consistency".
+  Progress* progress = nullptr;
 };
 
 struct ConsistencyStats {
@@ -83,10 +88,29 @@ struct ConsistencyStats {
   long long halo_footprints = 0;  // footprints and channels whose overshoot was limited
   long long step_edge_footprints = 0;  // footprints drawn as one straight edge
   double seconds_operator = 0, seconds_solve = 0, seconds_render = 0;
+  double seconds_surface = 0;  // make_consistent_streamed: drawing the rendered surface
+  int held_rows = 0;            // make_consistent_streamed: output rows held at a time (0: the whole output)
 };
 
 void make_consistent(Image& out, const Mesh2& mesh, const Image& src, const ConsistencyOptions& options,
                      ConsistencyStats* stats = nullptr);
+
+// As make_consistent on the whole image, with the rendered surface (mesh
+// drawn from `values`, cubic where `gradients` are given: rasterizer.hpp)
+// drawn here instead of held, and the result handed to
+// options.output_rows (required). Where make_consistent_streams() (box at
+// integer scales) the steps run as a wavefront down the rows: each on the
+// rows whose inputs the steps before have finished, so that only the
+// output rows between the first unfinished and the last drawn are held
+// (the steps' reach: a few hundred output rows), not the whole output;
+// same bits. Elsewhere the surface is drawn whole and corrected by
+// make_consistent. `values` and `gradients` are not read after
+// options.mesh_done.
+void make_consistent_streamed(int out_width, int out_height, const std::vector<float>& values,
+                              const std::vector<float>* gradients, const Mesh2& mesh, const Image& src,
+                              const ConsistencyOptions& options, ConsistencyStats* stats = nullptr,
+                              RenderStats* render_stats = nullptr);
+bool make_consistent_streams(const AcquisitionModel& model, int width, int height, int out_width, int out_height);
 
 // Input rows of margin a band needs on a cut side, beyond those its mesh
 // needs, for the consistent reconstruction of an image of width x height

@@ -116,47 +116,55 @@ void GridSurface::acquire(const std::vector<double>& v, std::vector<double>& y, 
 }
 
 void GridSurface::solve(const std::vector<double>& r, std::vector<double>& v, int C, int first, int end) const {
+  if (end < 0) end = height_;
+  solve_rows(r, v, C, first, end, first, end);
+}
+
+void GridSurface::solve_rows(const std::vector<double>& r, std::vector<double>& v, int C, int first, int end,
+                             int keep_first, int keep_end) const {
   using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   using Solver = Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>>;
   const int W = width_;
-  if (end < 0) end = height_;
   const std::size_t row_size = static_cast<std::size_t>(W) * C;
-  if (first < 0 || end > height_ || first >= end || r.size() != row_size * (end - first))
+  if (first < 0 || end > height_ || first >= end || r.size() != row_size * (end - first) || keep_first < first ||
+      keep_end > end || keep_first >= keep_end)
     throw Error("grid surface: values of another grid");
-  const int rows = end - first;
-  // G = By (x) Bx, so v = By^-1 R Bx^-T: each row solved along x (its C
-  // channels are the right-hand sides) ...
-  std::vector<double> along_x(r.begin(), r.end());
+  // G = By (x) Bx, so v = By^-1 R Bx^-T: along y block by block on each
+  // block's window (canonical blocks of absolute rows, so that every band
+  // cuts them alike), after each row of the windows is solved along x (its
+  // C channels the right-hand sides).
+  const int B = block_rows_, M = window_rows_;
+  const int first_block = keep_first / B, end_block = (keep_end + B - 1) / B;
+  auto window = [&](int k) { return std::pair{std::max(first, k * B - M), std::min(end, (k + 1) * B + M)}; };
+  const int solved_first = window(first_block).first, solved_end = window(end_block - 1).second;
+  const int rows = solved_end - solved_first;
+  std::vector<double> along_x(r.begin() + static_cast<std::ptrdiff_t>(row_size * (solved_first - first)),
+                              r.begin() + static_cast<std::ptrdiff_t>(row_size * (solved_end - first)));
   tbb::parallel_for(0, rows, [&](int iy) {
     Eigen::Map<RowMajor> row(&along_x[iy * row_size], W, C);
     const Eigen::MatrixXd solved = x_->lu.solve(row);
     row = solved;
   });
-  // ... then along y, block by block on each block's window (canonical
-  // blocks of absolute rows, so that every band cuts them alike), every
-  // (column, channel) a right-hand side, in groups of 256.
-  const int B = block_rows_, M = window_rows_;
-  const int first_block = first / B, end_block = (end + B - 1) / B;
   std::vector<std::unique_ptr<Solver>> solvers(end_block - first_block);
-  auto window = [&](int k) { return std::pair{std::max(first, k * B - M), std::min(end, (k + 1) * B + M)}; };
   tbb::parallel_for(first_block, end_block, [&](int k) {
     const auto [a, b] = window(k);
     solvers[k - first_block] = std::make_unique<Solver>();
     y_->factor(*solvers[k - first_block], a, b, model_);
   });
-  v.assign(r.size(), 0.0);
+  // Every (column, channel) a right-hand side, in groups of 256.
+  v.assign(row_size * (keep_end - keep_first), 0.0);
   const Eigen::Map<const RowMajor> input(along_x.data(), rows, static_cast<Eigen::Index>(row_size));
-  Eigen::Map<RowMajor> output(v.data(), rows, static_cast<Eigen::Index>(row_size));
+  Eigen::Map<RowMajor> output(v.data(), keep_end - keep_first, static_cast<Eigen::Index>(row_size));
   const Eigen::Index group = 256;
   const Eigen::Index groups = (static_cast<Eigen::Index>(row_size) + group - 1) / group;
   tbb::parallel_for(Eigen::Index(0), groups * (end_block - first_block), [&](Eigen::Index task) {
     const int k = first_block + static_cast<int>(task / groups);
     const Eigen::Index col = (task % groups) * group, count = std::min(group, static_cast<Eigen::Index>(row_size) - col);
     const auto [a, b] = window(k);
-    const Eigen::MatrixXd solved = solvers[k - first_block]->solve(input.block(a - first, col, b - a, count));
-    const int keep_first = std::max(first, k * B), keep_end = std::min(end, (k + 1) * B);
-    output.block(keep_first - first, col, keep_end - keep_first, count) =
-        solved.middleRows(keep_first - a, keep_end - keep_first);
+    const Eigen::MatrixXd solved = solvers[k - first_block]->solve(input.block(a - solved_first, col, b - a, count));
+    const int kept_first = std::max(keep_first, k * B), kept_end = std::min(keep_end, (k + 1) * B);
+    output.block(kept_first - keep_first, col, kept_end - kept_first, count) =
+        solved.middleRows(kept_first - a, kept_end - kept_first);
   });
 }
 

@@ -58,6 +58,12 @@ class GridSurface {
   // v with G v = r, both on rows [first, end): each block of rows solved on
   // its window, clipped to the range (exact up to rounding on the whole grid).
   void solve(const std::vector<double>& r, std::vector<double>& v, int channels, int first = 0, int end = -1) const;
+  // The same solve of r (rows [first, end)), but only its rows [keep_first,
+  // keep_end) computed, into v: the blocks that hold them, each on its
+  // window clipped to [first, end). With reach() rows of r either side of
+  // the kept rows (or the grid's border), those rows are the whole grid's.
+  void solve_rows(const std::vector<double>& r, std::vector<double>& v, int channels, int first, int end,
+                  int keep_first, int keep_end) const;
   // Adds the surface with vertex values v (rows [v_first, ...) of the grid)
   // to output rows [first_row, end_row) (end_row < 0: to the last), in
   // place; `out` holds output rows [out_origin, out_origin + out.height).

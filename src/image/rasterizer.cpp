@@ -33,6 +33,9 @@ struct RenderPlan::Prepared {
   // Mesh vertices by the output row ceil(y) of their position, clamped to
   // [-1, height]: row r's are vertex_ids[first_vertex[r + 1], first_vertex[r + 2]).
   std::vector<index_t> vertex_ids, first_vertex;
+  // Rows r where a group of rows starts in the whole grid (r = 0, or a
+  // vertex in (r - 1, r]); rows r >= height count as starts.
+  std::vector<unsigned char> group_starts;
   // Drawn by shape: the lowest and highest y of each chunk of triangles.
   static constexpr index_t shape_chunk = 1 << 12;
   std::vector<std::pair<double, double>> chunk_rows;
@@ -108,6 +111,14 @@ RenderPlan::RenderPlan(const Mesh2& mesh, const RenderGrid& grid, bool fill_outs
     std::vector<index_t> next(plan.first_vertex.begin(), plan.first_vertex.end() - 1);
     for (index_t v = 0; v < scene.V; ++v) plan.vertex_ids[next[row_key(v)]++] = v;
   }
+  plan.group_starts.assign(static_cast<std::size_t>(height) + 1, 0);
+  plan.group_starts[0] = plan.group_starts[height] = 1;
+  for (int r = 1; r < height; ++r)
+    if (plan.first_vertex[r + 1] != plan.first_vertex[r + 2]) plan.group_starts[r] = 1;
+  for (std::size_t i = 0; i < scene.rim_points.size(); ++i) {
+    const Point2 p = scene.pos(scene.V + static_cast<index_t>(i));
+    if (p.y > 0 && p.y <= height - 1) plan.group_starts[ceil_int(p.y)] = 1;
+  }
   if (!plan.every_point_used) {
     plan.used.assign(scene.V, 0);
     for (index_t v : mesh.tri) plan.used[v] = 1;
@@ -126,6 +137,24 @@ RenderPlan::RenderPlan(const Mesh2& mesh, const RenderGrid& grid, bool fill_outs
       plan.chunk_rows[k] = {lo, hi};
     });
   }
+}
+
+int RenderPlan::window_boundary(int row) const {
+  const std::vector<unsigned char>& starts = prepared_->group_starts;
+  const int height = prepared_->geometry.grid.height;
+  if (starts.empty()) return std::clamp(row, 0, height);  // collinear points: no groups
+  row = std::clamp(row, 0, height);
+  while (!starts[row]) ++row;
+  return row;
+}
+
+int RenderPlan::window_start(int row) const {
+  const std::vector<unsigned char>& starts = prepared_->group_starts;
+  const int height = prepared_->geometry.grid.height;
+  row = std::clamp(row, 0, height);
+  if (starts.empty()) return row;
+  while (!starts[row]) --row;
+  return row;
 }
 
 RenderPlan::~RenderPlan() = default;

@@ -33,7 +33,9 @@
 // with no walk (RenderGrid::by_shapes; the rim is still walked).
 //
 // Windows of rows: a RenderPlan keeps what every call would find over the
-// whole mesh, so that a call on a few rows costs about what they hold.
+// whole mesh, so that a call on a few rows costs about what they hold;
+// windows cut where RenderPlan::window_boundary() says have the bits of
+// the whole render.
 //
 // A mesh with no triangles (collinear points) is rendered by linear
 // interpolation along the line, clamped at its ends; a single point gives a
@@ -55,7 +57,8 @@ struct RenderGrid {
   // Rows [first_row, first_row + rows) of the grid only (rows < 0: all):
   // the image returned has that many rows, its row 0 being grid row
   // first_row, and every pixel the value it has in the whole grid, bit for
-  // bit (tiled rendering, upscale.hpp).
+  // bit, where the rows start and end on RenderPlan::window_boundary()
+  // rows (tiled rendering, upscale.hpp).
   int first_row = 0, rows = -1;
   // Lattice meshes (every vertex at the same fractional position in output
   // pixels, as pixel centres at integer scales): draw the mesh's triangles
@@ -134,6 +137,17 @@ class RenderPlan {
   ~RenderPlan();
   RenderPlan(RenderPlan&&) noexcept;
   RenderPlan& operator=(RenderPlan&&) noexcept;
+
+  // The first row at or after `row` (clamped to the grid) where a group of
+  // rows starts in the whole grid (row 0, a row r with a vertex in (r - 1,
+  // r]), or the grid's height. Windows that start and end on such rows
+  // draw every pixel to the bits of the whole render; a window cutting a
+  // group may draw a cubic patch cut by it in its other form (power or
+  // Bernstein: the form follows the pixels a piece draws), a rounding
+  // apart.
+  int window_boundary(int row) const;
+  // The last such row at or before `row`.
+  int window_start(int row) const;
 
   struct Prepared;
   const Prepared& prepared() const { return *prepared_; }

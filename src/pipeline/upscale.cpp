@@ -26,6 +26,7 @@
 #include <future>
 #include <cstdio>
 #include <limits>
+#include <optional>
 
 namespace ddt {
 namespace {
@@ -63,17 +64,13 @@ int first_output_row(int y, int in_height, int out_height) {
 
 // Output rows per band handed to UpscaleOptions::output_rows: about 8 MB
 // of floats, which keeps fewer pages in flight and starts the encoder
-// sooner than larger bands. Where each band is rendered on its own (the
-// point model), every band also walks the whole mesh, so there are at most
-// about 32 bands unless that makes a band over 64 MB (docs/performance.md,
-// "Band size").
-int streamed_band_rows(int out_width, int out_height, int channels, const UpscaleOptions& options,
-                       bool rendered_per_band) {
+// sooner than larger bands (docs/performance.md, "Band size"). Where each
+// band is rendered on its own (the point model), a RenderPlan keeps a
+// band's cost to its rows.
+int streamed_band_rows(int out_width, int channels, const UpscaleOptions& options) {
   if (options.output_band_rows > 0) return options.output_band_rows;
   const double row_bytes = 4.0 * out_width * channels;
-  int rows = static_cast<int>(8e6 / row_bytes);
-  if (rendered_per_band) rows = std::max(rows, std::min(out_height / 32, static_cast<int>(64e6 / row_bytes)));
-  return std::clamp(rows, 16, 4096);
+  return std::clamp(static_cast<int>(8e6 / row_bytes), 16, 4096);
 }
 
 struct Band {
@@ -194,7 +191,13 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
                          first_output_row(band.top, image_height, out_height),
                      C);
   }
-  Image& out = band_image ? own_rows : output();
+  // The whole image's consistent reconstruction, streamed, draws its
+  // surface a band of rows at a time as its wavefront needs it, and holds
+  // no whole output (make_consistent_streamed).
+  const bool wavefront = consistent && whole && options.output_rows &&
+                         make_consistent_streams(options.model, W, image_height, out_width, out_height);
+  Image no_output;
+  Image& out = band_image ? own_rows : wavefront ? no_output : output();
   auto t0 = Clock::now();
   RenderGrid grid;
   grid.width = out_width;
@@ -216,38 +219,88 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
     }
   }
   const std::vector<float>* patch_gradients = cubic ? &gradients : nullptr;
+  std::optional<RenderPlan> plan;
+  if (!wavefront) plan.emplace(mesh, grid);
+  // Rows [first, end) of the grid into `into` from its row `at`, with the
+  // bits of the whole image's render: where a group of rows is cut, drawn
+  // from the whole groups around them (RenderPlan::window_boundary).
+  auto draw_rows = [&](Image& into, int at, int first, int end, Progress* progress) {
+    const int a = plan->window_start(first), b = plan->window_boundary(end);
+    if (a == first && b == end)
+      return render_mesh_into(into, at, *plan, values, C, first, end - first, &rs, patch_gradients, progress);
+    Image groups(out_width, b - a, C);
+    render_mesh_into(groups, 0, *plan, values, C, a, b - a, &rs, patch_gradients, progress);
+    const std::ptrdiff_t row_floats = static_cast<std::ptrdiff_t>(out_width) * C;
+    std::copy(groups.pixels.begin() + row_floats * (first - a), groups.pixels.begin() + row_floats * (end - a),
+              into.pixels.begin() + row_floats * at);
+  };
   if (options.output_rows && !consistent) {
-    // Streamed: the band's output rows rendered and handed out a part at a time.
-    const int step = streamed_band_rows(out_width, out_height, C, options, true);
-    for (int first = band.out_first; first < band.out_end; first += step) {
-      RenderGrid part_grid = grid;
-      part_grid.first_row = first;
-      part_grid.rows = std::min(step, band.out_end - first);
-      Image part(out_width, part_grid.rows, C);
-      RenderStats part_stats;
-      render_mesh_into(part, 0, mesh, values, C, part_grid, &part_stats, true, patch_gradients, stages.progress());
-      rs.triangles = part_stats.triangles, rs.rim_triangles = part_stats.rim_triangles;
+    // Streamed: the band's output rows rendered and handed out a part at a
+    // time, cut where the render keeps its bits.
+    const int step = streamed_band_rows(out_width, C, options);
+    for (int first = band.out_first; first < band.out_end;) {
+      const int end = std::min(band.out_end, std::max(first + 1, plan->window_boundary(first + step)));
+      Image part(out_width, end - first, C);
+      draw_rows(part, 0, first, end, stages.progress());
       options.output_rows(std::move(part), first);
+      first = end;
     }
-  } else {
-    render_mesh_into(out, band_image ? 0 : band.out_first - band.out_origin, mesh, values, C, grid, &rs, true,
-                     patch_gradients, stages.progress());
+  } else if (!wavefront) {
+    draw_rows(out, band_image ? 0 : band.out_first - band.out_origin, grid.first_row, grid.first_row + grid.rows,
+              stages.progress());
   }
-  const double seconds_render = seconds_since(t0);
-  local.seconds_render += seconds_render;
-  stages.log("render: " + std::to_string(out_width) + "x" + std::to_string(band.out_end - band.out_first) + ", " +
-             std::to_string(rs.triangles) + " + " + std::to_string(rs.rim_triangles) + " rim triangles, " +
-             std::to_string(seconds_render) + " s");
-  if (consistent) {
+  auto log_render = [&](double seconds, const char* how) {
+    stages.log("render: " + std::to_string(out_width) + "x" + std::to_string(band.out_end - band.out_first) + ", " +
+               std::to_string(rs.triangles) + " + " + std::to_string(rs.rim_triangles) + " rim triangles, " +
+               std::to_string(seconds) + " s" + how);
+  };
+  if (!wavefront) {
+    const double seconds_render = seconds_since(t0);
+    local.seconds_render += seconds_render;
+    log_render(seconds_render, "");
+  }
+  if (wavefront) {
+    t0 = Clock::now();
+    stages.begin("consistency");
+    ConsistencyOptions co;
+    co.model = options.model;
+    co.step_edges = options.step_edges;
+    co.output_rows = options.output_rows;
+    co.output_band_rows = streamed_band_rows(out_width, C, options);
+    co.progress = stages.progress();
+    // The mesh and the gradients are freed once the last mesh step is drawn.
+    co.mesh_done = [&] {
+      std::vector<float>().swap(gradients);
+      mesh = Mesh2();
+    };
+    ConsistencyStats cs;
+    make_consistent_streamed(out_width, out_height, values, patch_gradients, mesh, src, co, &cs, &rs);
+    const double seconds_render = cs.seconds_surface;
+    local.seconds_render += seconds_render;
+    log_render(seconds_render, " (a band at a time, with the consistent reconstruction)");
+    local.consistency_mesh_steps = cs.mesh_steps;
+    local.consistency_residual = cs.residual_after;
+    local.seconds_consistency = seconds_since(t0) - seconds_render;
+    char line[320];
+    std::snprintf(line, sizeof line,
+                  "consistency (%s): residual %.3g, %.3g after %d steps on the mesh, %.3g after the grid solve; "
+                  "%lld step-edge footprints, %lld halo-limited; operators %.3f s, solve %.3f s, "
+                  "last steps %.3f s; a wavefront down the rows, %d output rows held",
+                  to_string(options.model).c_str(), cs.residual_before, cs.residual_mesh, cs.mesh_steps,
+                  cs.residual_after, cs.step_edge_footprints, cs.halo_footprints,
+                  cs.seconds_operator, cs.seconds_solve, cs.seconds_render, cs.held_rows);
+    stages.log(line);
+  } else if (consistent) {
     t0 = Clock::now();
     stages.begin("consistency");
     ConsistencyOptions co;
     co.model = options.model;
     co.step_edges = options.step_edges;
     if (!band_image) co.output_rows = options.output_rows;
-    co.output_band_rows = streamed_band_rows(out_width, out_height, C, options, false);
+    co.output_band_rows = streamed_band_rows(out_width, C, options);
     // The mesh and the gradients are freed before the last steps, whose
     // bands of output rows can then reuse their memory.
+    plan.reset();
     std::vector<float>().swap(gradients);
     co.mesh_done = [&mesh] { mesh = Mesh2(); };
     ConsistencyStats cs;
@@ -261,7 +314,7 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
       const std::ptrdiff_t row_floats = static_cast<std::ptrdiff_t>(out_width) * C;
       const auto kept = own_rows.pixels.begin() + row_floats * (band.out_first - grid.first_row);
       if (options.output_rows) {
-        const int step = streamed_band_rows(out_width, out_height, C, options, false);
+        const int step = streamed_band_rows(out_width, C, options);
         for (int first = band.out_first; first < band.out_end; first += step) {
           const int end = std::min(band.out_end, first + step);
           Image part(out_width, end - first, C);
@@ -358,7 +411,8 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
   // reconstruction holds the whole output and hands out each band of it
   // once its last steps are done (make_consistent).
   const bool streamed = static_cast<bool>(options.output_rows);
-  const bool whole_output = !streamed || (consistent && tile_rows == 0);
+  const bool whole_output =
+      !streamed || (consistent && tile_rows == 0 && !make_consistent_streams(options.model, W, H, out_width, out_height));
   // The output's pages are mapped while the mesh is built.
   Image out;
   std::future<Image> allocating = whole_output ? prefaulted_image_async(out_width, out_height, C) : std::future<Image>();

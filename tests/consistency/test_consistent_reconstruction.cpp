@@ -5,6 +5,8 @@
 #include "eval/edge_sharpness.hpp"
 #include "util/error.hpp"
 #include "eval/synthetic_scenes.hpp"
+#include "image/cubic_surface.hpp"
+#include "image/rasterizer.hpp"
 #include "pipeline/upscale.hpp"
 
 #include "test_support.hpp"
@@ -12,6 +14,8 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstring>
+#include <string>
 
 using namespace ddt;
 
@@ -250,4 +254,106 @@ TEST_CASE("upscale: a reduction on any axis is the plain interpolation under eve
       options.model = parse_acquisition_model(name);
       CHECK(max_difference(upscale(in, w, h, options), upscale(in, w, h, point)) == 0);
     }
+}
+
+TEST_CASE("make_consistent_streamed: the wavefront equals make_consistent on the whole output, bit for bit") {
+  // Tall images, so that the wavefront's window moves many times: noise
+  // (flips everywhere, long triangles) and flat regions (straight edges
+  // drawn as steps, halos limited beside them); box at x2, x3, x4 with 0,
+  // 1 and 2 mesh steps; then models and scales it does not stream, drawn
+  // whole and corrected by make_consistent.
+  Image noise = noise_image(40, 500, 2, 5);
+  for (float& v : noise.pixels) v = 0.2f + 0.6f * v;
+  const Image stripes = render_scene(find_scene("colour_regions"), 36, 420);
+  struct Case {
+    const Image* in;
+    const char* model;
+    int scale_num, scale_den, mesh_steps;
+  };
+  const Case cases[] = {{&noise, "box", 2, 1, 2},    {&noise, "box", 3, 1, 1},     {&noise, "box", 4, 1, 0},
+                        {&stripes, "box", 2, 1, 2},  {&stripes, "box", 3, 1, 2},   {&stripes, "box", 4, 1, 1},
+                        {&noise, "gauss:0.6", 2, 1, 2}, {&stripes, "box", 5, 2, 2}, {&stripes, "bicubic", 3, 1, 2}};
+  for (const Case& k : cases) {
+    const Image& in = *k.in;
+    const int C = in.channels, ow = in.width * k.scale_num / k.scale_den, oh = in.height * k.scale_num / k.scale_den;
+    CAPTURE(k.model);
+    CAPTURE(oh);
+    CAPTURE(k.mesh_steps);
+    UpscaleOptions options;
+    options.region_rows = 16;
+    const Mesh2 mesh = upscale_mesh(in, options);
+    RenderGrid grid;
+    grid.width = ow, grid.height = oh;
+    grid.scale_x = static_cast<double>(ow) / in.width, grid.scale_y = static_cast<double>(oh) / in.height;
+    const std::vector<float> gradients = grid_gradients(in, options.slopes);
+
+    ConsistencyOptions co;
+    co.model = parse_acquisition_model(k.model);
+    co.mesh_steps = k.mesh_steps;
+    co.output_band_rows = 37;
+    auto collect_into = [&](Image& whole, int& next_row, bool& in_order) {
+      return [&whole, &next_row, &in_order, ow, C](Image rows, int first_row) {
+        in_order = in_order && first_row == next_row && rows.width == ow && rows.channels == C;
+        if (!in_order) return;
+        std::copy(rows.pixels.begin(), rows.pixels.end(), whole.pixels.begin() + whole.index(0, first_row));
+        next_row += rows.height;
+      };
+    };
+    Image expected(ow, oh, C, -1.0f), streamed(ow, oh, C, -2.0f);
+    int expected_rows = 0, streamed_rows = 0;
+    bool expected_order = true, streamed_order = true;
+    co.output_rows = collect_into(expected, expected_rows, expected_order);
+    Image out = render_mesh(mesh, in.pixels, C, grid, nullptr, true, 0.0f, &gradients);
+    ConsistencyStats whole_stats, stream_stats;
+    make_consistent(out, mesh, in, co, &whole_stats);
+
+    co.output_rows = collect_into(streamed, streamed_rows, streamed_order);
+    int mesh_done = 0, rows_before_mesh_done = -1;
+    co.mesh_done = [&] { ++mesh_done, rows_before_mesh_done = streamed_rows; };
+    RenderStats surface_stats;
+    make_consistent_streamed(ow, oh, in.pixels, &gradients, mesh, in, co, &stream_stats, &surface_stats);
+    CHECK(expected_order);
+    CHECK(streamed_order);
+    CHECK(expected_rows == oh);
+    CHECK(streamed_rows == oh);
+    CHECK(mesh_done == 1);
+    CHECK(std::memcmp(expected.pixels.data(), streamed.pixels.data(), expected.pixels.size() * sizeof(float)) == 0);
+    CHECK(stream_stats.mesh_steps == whole_stats.mesh_steps);
+    CHECK(stream_stats.residual_before == whole_stats.residual_before);
+    CHECK(stream_stats.residual_mesh == whole_stats.residual_mesh);
+    CHECK(stream_stats.residual_after == whole_stats.residual_after);
+    CHECK(stream_stats.step_edge_footprints == whole_stats.step_edge_footprints);
+    CHECK(stream_stats.halo_footprints == whole_stats.halo_footprints);
+    const bool streams = make_consistent_streams(co.model, in.width, in.height, ow, oh);
+    CHECK(streams == (std::string(k.model) == "box" && k.scale_den == 1));
+    CHECK(surface_stats.triangles == mesh.triangle_count());
+    // Streamed, rows are handed out long before the whole output is made
+    // (the mesh steps end at the last rows); else all of them after.
+    if (streams) CHECK(rows_before_mesh_done > oh / 2);
+    else CHECK(rows_before_mesh_done == 0);
+    if (std::string(k.model) == "box" && k.in == &stripes && k.scale_den == 1) CHECK(whole_stats.step_edge_footprints > 0);
+  }
+}
+
+TEST_CASE("upscale: streamed, the default's rows equal the whole output's, bit for bit") {
+  const Image in = test::sampled_image(50, 380, 3, [](double x, double y, int c) {
+    return std::round((0.4 + 0.3 * std::sin(0.4 * x + 0.1 * c) * std::cos(0.23 * y) + (x > 0.3 * y ? 0.2 : 0)) * 255) /
+           255;
+  });
+  for (int scale : {2, 4}) {
+    CAPTURE(scale);
+    UpscaleOptions options;
+    options.region_rows = 32;
+    const Image whole = upscale(in, in.width * scale, in.height * scale, options);
+    Image rows(in.width * scale, in.height * scale, 3, -1.0f);
+    int next = 0;
+    options.output_rows = [&](Image part, int first_row) {
+      CHECK(first_row == next);
+      std::copy(part.pixels.begin(), part.pixels.end(), rows.pixels.begin() + rows.index(0, first_row));
+      next += part.height;
+    };
+    upscale(in, in.width * scale, in.height * scale, options);
+    CHECK(next == rows.height);
+    CHECK(std::memcmp(whole.pixels.data(), rows.pixels.data(), whole.pixels.size() * sizeof(float)) == 0);
+  }
 }

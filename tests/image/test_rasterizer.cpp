@@ -487,10 +487,11 @@ TEST_CASE("add_mesh_render_into: the same bits as drawing into an image of its o
 
 TEST_CASE("RenderPlan: windows of rows drawn through one plan equal the whole render, bit for bit") {
   // An optimized lattice grid of several chunks of triangles (drawn by
-  // shape at x3 and x4, walked at x2.5), scattered points (walked), a
-  // hull that is not convex and collinear points; linear, cubic and added
-  // renders; windows of 1 to 40 rows, the channels changing between calls
-  // (the plan's shape tables are per channel count).
+  // shape at x3 and x4, walked at x2.5 and x7, where the cubic's pieces
+  // take both forms), scattered points (walked), a hull that is not convex
+  // and collinear points; linear, cubic and added renders; windows of 1 to
+  // 40 rows cut where window_boundary() says, the channels changing
+  // between calls (the plan's shape tables are per channel count).
   std::vector<Mesh2> meshes;
   std::mt19937 rng(5);
   {
@@ -506,7 +507,7 @@ TEST_CASE("RenderPlan: windows of rows drawn through one plan equal the whole re
     meshes.push_back(delaunay_triangulation({{0.5, 0.5}, {20.5, 10.5}, {40.5, 20.5}}));
   }
   for (std::size_t mi = 0; mi < meshes.size(); ++mi)
-    for (double scale : {3.0, 4.0, 2.5}) {
+    for (double scale : {3.0, 4.0, 2.5, 7.0}) {
       const Mesh2& m = meshes[mi];
       const RenderGrid g = grid_for(90, 50, static_cast<int>(90 * scale), static_cast<int>(50 * scale));
       const RenderPlan plan(m, g);
@@ -531,7 +532,8 @@ TEST_CASE("RenderPlan: windows of rows drawn through one plan equal the whole re
           std::uniform_int_distribution<int> height(1, 40);
           int drawn_rows = 0;
           for (int first = 0; first < g.height;) {
-            const int rows = std::min(height(rng), g.height - first);
+            const int rows = plan.window_boundary(first + height(rng)) - first;
+            REQUIRE(rows > 0);
             Image part(g.width, rows + 1, C);  // drawn at row 1 of an image of its own
             std::copy_n(&base.pixels[base.index(0, first)], static_cast<std::size_t>(g.width) * C * rows, &part.pixels[part.index(0, 1)]);
             RenderStats stats;
@@ -544,6 +546,7 @@ TEST_CASE("RenderPlan: windows of rows drawn through one plan equal the whole re
             first += rows, drawn_rows += rows;
           }
           CHECK(drawn_rows == g.height);
+          CHECK(plan.window_boundary(g.height + 5) == g.height);
           CHECK(std::memcmp(windows.pixels.data(), whole.pixels.data(), whole.pixels.size() * sizeof(float)) == 0);
         }
     }
