@@ -245,9 +245,12 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
       options.output_rows(std::move(part), first);
       first = end;
     }
+  } else if (band_image) {
+    // A band of the consistent reconstruction keeps only rows far from its
+    // ends (its margins), where any cut keeps the bits.
+    render_mesh_into(out, 0, *plan, values, C, grid.first_row, grid.rows, &rs, patch_gradients, stages.progress());
   } else if (!wavefront) {
-    draw_rows(out, band_image ? 0 : band.out_first - band.out_origin, grid.first_row, grid.first_row + grid.rows,
-              stages.progress());
+    draw_rows(out, band.out_first - band.out_origin, grid.first_row, grid.first_row + grid.rows, stages.progress());
   }
   auto log_render = [&](double seconds, const char* how) {
     stages.log("render: " + std::to_string(out_width) + "x" + std::to_string(band.out_end - band.out_first) + ", " +
