@@ -177,8 +177,8 @@ namespace {
 // Rows [origin, origin + capacity) of an array at input resolution
 // (row_size values a row), for a wavefront: rows it has left behind make
 // room for the rows ahead.
-struct RowRing {
-  RowRing(std::size_t row_size, int capacity) : values(row_size * capacity), row_size(row_size), capacity(capacity) {}
+struct SlidingRows {
+  SlidingRows(std::size_t row_size, int capacity) : values(row_size * capacity), row_size(row_size), capacity(capacity) {}
   std::vector<double> values;
   std::size_t row_size;
   int capacity, origin = 0;
@@ -256,8 +256,8 @@ void make_consistent_streamed(int out_width, int out_height, const std::vector<f
   // by vertex); the last residual and the grid correction, by rows.
   std::vector<std::vector<float>> step_values(K);
   for (auto& v : step_values) v.assign(row_size * H, 0.0f);
-  const int ring_rows = std::min(H, lag + solve_reach + step + 8);
-  RowRing last_residual(row_size, ring_rows), delta(row_size, ring_rows);
+  const int sliding_rows = std::min(H, lag + solve_reach + step + 8);
+  SlidingRows last_residual(row_size, sliding_rows), delta(row_size, sliding_rows);
   std::vector<double> acquired, solved_rows, acquired_delta;
   // Output rows [window_origin, window_origin + window.height) of which
   // [row_of[finished], drawn_rows) are in use; finished rows make room.
@@ -291,7 +291,7 @@ void make_consistent_streamed(int out_width, int out_height, const std::vector<f
     stepped[0] = drawn;
     surface_seconds += seconds_since(t);
     t = std::chrono::steady_clock::now();
-    // What the rings keep: the solve's reach before the next rows it
+    // What the sliding rows keep: the solve's reach before the next rows it
     // solves, the rows the correction and the measure still read.
     const int keep = std::max(0, std::min({solved - solve_reach, finished - 1, checked - 2}));
     for (int k = 0; k <= K; ++k) {
