@@ -262,51 +262,31 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
     local.seconds_render += seconds_render;
     log_render(seconds_render, "");
   }
+  if (!consistent) return ls;
+  t0 = Clock::now();
+  stages.begin("consistency");
+  ConsistencyOptions co;
+  co.model = options.model;
+  co.step_edges = options.step_edges;
+  if (!band_image) co.output_rows = options.output_rows;
+  co.output_band_rows = streamed_band_rows(out_width, C, options);
+  ConsistencyStats cs;
   if (wavefront) {
-    t0 = Clock::now();
-    stages.begin("consistency");
-    ConsistencyOptions co;
-    co.model = options.model;
-    co.step_edges = options.step_edges;
-    co.output_rows = options.output_rows;
-    co.output_band_rows = streamed_band_rows(out_width, C, options);
     co.progress = stages.progress();
     // The mesh and the gradients are freed once the last mesh step is drawn.
     co.mesh_done = [&] {
       std::vector<float>().swap(gradients);
       mesh = Mesh2();
     };
-    ConsistencyStats cs;
     make_consistent_streamed(out_width, out_height, values, patch_gradients, mesh, src, co, &cs, &rs);
-    const double seconds_render = cs.seconds_surface;
-    local.seconds_render += seconds_render;
-    log_render(seconds_render, " (a band at a time, with the consistent reconstruction)");
-    local.consistency_mesh_steps = cs.mesh_steps;
-    local.consistency_residual = cs.residual_after;
-    local.seconds_consistency = seconds_since(t0) - seconds_render;
-    char line[320];
-    std::snprintf(line, sizeof line,
-                  "consistency (%s): residual %.3g, %.3g after %d steps on the mesh, %.3g after the grid solve; "
-                  "%lld step-edge footprints, %lld halo-limited; operators %.3f s, solve %.3f s, "
-                  "last steps %.3f s; a wavefront down the rows, %d output rows held",
-                  to_string(options.model).c_str(), cs.residual_before, cs.residual_mesh, cs.mesh_steps,
-                  cs.residual_after, cs.step_edge_footprints, cs.halo_footprints,
-                  cs.seconds_operator, cs.seconds_solve, cs.seconds_render, cs.held_rows);
-    stages.log(line);
-  } else if (consistent) {
-    t0 = Clock::now();
-    stages.begin("consistency");
-    ConsistencyOptions co;
-    co.model = options.model;
-    co.step_edges = options.step_edges;
-    if (!band_image) co.output_rows = options.output_rows;
-    co.output_band_rows = streamed_band_rows(out_width, C, options);
+    local.seconds_render += cs.seconds_surface;
+    log_render(cs.seconds_surface, " (a band at a time, with the consistent reconstruction)");
+  } else {
     // The mesh and the gradients are freed before the last steps, whose
     // bands of output rows can then reuse their memory.
     plan.reset();
     std::vector<float>().swap(gradients);
     co.mesh_done = [&mesh] { mesh = Mesh2(); };
-    ConsistencyStats cs;
     if (band_image) {
       Image rows(W, band.bottom - band.top, C);
       rows.pixels = values;
@@ -333,19 +313,20 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
     } else {
       make_consistent(out, mesh, src, co, &cs);
     }
-    local.consistency_mesh_steps = cs.mesh_steps;
-    local.consistency_residual = cs.residual_after;
-    local.seconds_consistency = seconds_since(t0);
-    char line[320];
-    std::snprintf(line, sizeof line,
-                  "consistency (%s): residual %.3g, %.3g after %d steps on the mesh, %.3g after the grid solve; "
-                  "%lld step-edge footprints, %lld halo-limited; operators %.3f s, solve %.3f s, "
-                  "render %.3f s",
-                  to_string(options.model).c_str(), cs.residual_before, cs.residual_mesh, cs.mesh_steps,
-                  cs.residual_after, cs.step_edge_footprints, cs.halo_footprints,
-                  cs.seconds_operator, cs.seconds_solve, cs.seconds_render);
-    stages.log(line);
   }
+  local.consistency_mesh_steps = cs.mesh_steps;
+  local.consistency_residual = cs.residual_after;
+  local.seconds_consistency = seconds_since(t0) - cs.seconds_surface;
+  char line[360];
+  std::snprintf(line, sizeof line,
+                "consistency (%s): residual %.3g, %.3g after %d steps on the mesh, %.3g after the grid solve; "
+                "%lld step-edge footprints, %lld halo-limited; operators %.3f s, solve %.3f s, %s %.3f s%s",
+                to_string(options.model).c_str(), cs.residual_before, cs.residual_mesh, cs.mesh_steps,
+                cs.residual_after, cs.step_edge_footprints, cs.halo_footprints, cs.seconds_operator, cs.seconds_solve,
+                wavefront ? "last steps" : "render", cs.seconds_render,
+                wavefront ? ("; a wavefront down the rows, " + std::to_string(cs.held_rows) + " output rows held").c_str()
+                          : "");
+  stages.log(line);
   return ls;
 }
 
