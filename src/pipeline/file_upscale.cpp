@@ -1,5 +1,6 @@
 #include "pipeline/file_upscale.hpp"
 
+#include "consistency/consistent_reconstruction.hpp"
 #include "image/image_mesh.hpp"
 #include "io/band_writer.hpp"
 #include "io/image_io.hpp"
@@ -63,10 +64,13 @@ std::string pages_warning(const std::string& input, int pages) {
 double upscale_job_bytes(int width, int height, int channels, int out_width, int out_height,
                          const UpscaleOptions& options, bool streamed, int output_images) {
   const double in_pixels = double(width) * height;
-  // Streamed under the point model, a few bands of the output are held.
+  // Streamed under the point model, a few bands of the output are held;
+  // under the box model at integer scales, the wavefront's output rows of
+  // a few hundred input rows (make_consistent_streamed).
   const bool bands = streamed && options.model.kind == AcquisitionModel::Kind::point;
-  const double out_pixels = bands ? std::min(double(out_width) * out_height, 2048.0 * out_width)
-                                  : double(out_width) * out_height;
+  const bool wavefront = streamed && make_consistent_streams(options.model, width, height, out_width, out_height);
+  const double held_rows = bands ? 2048.0 : wavefront ? 256.0 * out_height / height : double(out_height);
+  const double out_pixels = std::min(double(out_width) * out_height, held_rows * out_width);
   const double images = 4.0 * channels * (in_pixels + out_pixels * output_images);
   const bool tiled = options.optimizer == Optimizer::lawson && options.tile_rows >= 0;
   const double mesh = 200.0 * in_pixels;
