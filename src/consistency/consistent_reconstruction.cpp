@@ -49,6 +49,20 @@ void residual_of(const Image& out, const Image& src, const Acquisition& acquisit
     residual[offset + i] = double(src.pixels[offset + i]) - acquired[i];
 }
 
+void check_problem(const Mesh2& mesh, const Image& src) {
+  if (src.channels > max_channels) throw Error("the consistent reconstruction takes at most 16 channels");
+  if (mesh.points.size() != static_cast<std::size_t>(src.width) * src.height)
+    throw Error("the consistent reconstruction: the mesh is not the pixel grid");
+}
+
+// The whole input's statistics: the caller's (bands share them), or src's
+// own, computed into `own`.
+const InputStatistics& statistics_of(const ConsistencyOptions& options, const Image& src, InputStatistics& own) {
+  if (options.statistics) return *options.statistics;
+  own = input_statistics(src);
+  return own;
+}
+
 bool kept_exactly(const AcquisitionModel& model, int W, int H, int out_w, int out_h) {
   return model.kind == AcquisitionModel::Kind::box && out_w % W == 0 && out_h % H == 0;
 }
@@ -59,9 +73,7 @@ void make_consistent(Image& out, const Mesh2& mesh, const Image& src, const Cons
                      ConsistencyStats* stats) {
   if (options.model.kind == AcquisitionModel::Kind::point) return;
   const int W = src.width, C = src.channels;
-  if (C > max_channels) throw Error("the consistent reconstruction takes at most 16 channels");
-  if (mesh.points.size() != static_cast<std::size_t>(W) * src.height)
-    throw Error("the consistent reconstruction: the mesh is not the pixel grid");
+  check_problem(mesh, src);
   const RowBand& band = options.band;
   const Rows rows{band.src_top, band.src_top + src.height, band.image_height > 0 ? band.image_height : src.height,
                   band.out_origin, band.out_origin + out.height, band.out_height > 0 ? band.out_height : out.height};
@@ -69,8 +81,7 @@ void make_consistent(Image& out, const Mesh2& mesh, const Image& src, const Cons
   if (rows.top < 0 || rows.end > H || rows.out_origin < 0 || rows.out_end > out_h)
     throw Error("the consistent reconstruction: a band outside its image");
   InputStatistics own;
-  if (!options.statistics) own = input_statistics(src);
-  const InputStatistics& statistics = options.statistics ? *options.statistics : own;
+  const InputStatistics& statistics = statistics_of(options, src, own);
   ConsistencyStats local;
 
   auto t0 = std::chrono::steady_clock::now();
@@ -221,12 +232,9 @@ void make_consistent_streamed(int out_width, int out_height, const std::vector<f
     if (stats) stats->seconds_surface = surface_seconds;
     return;
   }
-  if (C > max_channels) throw Error("the consistent reconstruction takes at most 16 channels");
-  if (mesh.points.size() != static_cast<std::size_t>(W) * H)
-    throw Error("the consistent reconstruction: the mesh is not the pixel grid");
+  check_problem(mesh, src);
   InputStatistics own;
-  if (!options.statistics) own = input_statistics(src);
-  const InputStatistics& statistics = options.statistics ? *options.statistics : own;
+  const InputStatistics& statistics = statistics_of(options, src, own);
   ConsistencyStats local;
   auto t0 = std::chrono::steady_clock::now();
   const Acquisition acquisition(options.model, W, H, out_width, out_height);
