@@ -281,21 +281,23 @@ void make_consistent_streamed(int out_width, int out_height, const std::vector<f
     auto t = std::chrono::steady_clock::now();
     // The surface's next rows, cut where its render keeps the whole
     // image's bits; then the input rows whose footprints are all drawn.
-    const int cut = std::max(drawn_rows + 1, plan->window_boundary(row_of[std::min(H, drawn + step)]));
-    if (cut - window_origin > window.height) {
-      const int keep = row_of[finished];
-      const std::ptrdiff_t row_floats = static_cast<std::ptrdiff_t>(out_width) * C;
-      std::copy(window.pixels.begin() + row_floats * (keep - window_origin),
-                window.pixels.begin() + row_floats * (drawn_rows - window_origin), window.pixels.begin());
-      window_origin = keep;
-      if (cut - window_origin > window.height) throw Error("the consistent reconstruction: a wavefront overran");
+    if (drawn < H) {
+      const int cut = std::max(drawn_rows + 1, plan->window_boundary(row_of[std::min(H, drawn + step)]));
+      if (cut - window_origin > window.height) {
+        const int keep = row_of[finished];
+        const std::ptrdiff_t row_floats = static_cast<std::ptrdiff_t>(out_width) * C;
+        std::copy(window.pixels.begin() + row_floats * (keep - window_origin),
+                  window.pixels.begin() + row_floats * (drawn_rows - window_origin), window.pixels.begin());
+        window_origin = keep;
+        if (cut - window_origin > window.height) throw Error("the consistent reconstruction: a wavefront overran");
+      }
+      RenderStats rows_stats;
+      render_mesh_into(window, drawn_rows - window_origin, *plan, values, C, drawn_rows, cut - drawn_rows, &rows_stats,
+                       gradients);
+      if (render_stats) *render_stats = rows_stats;
+      drawn_rows = cut;
+      while (drawn < H && row_of[drawn + 1] <= drawn_rows) ++drawn;
     }
-    RenderStats rows_stats;
-    render_mesh_into(window, drawn_rows - window_origin, *plan, values, C, drawn_rows, cut - drawn_rows, &rows_stats,
-                     gradients);
-    if (render_stats) *render_stats = rows_stats;
-    drawn_rows = cut;
-    while (drawn < H && row_of[drawn + 1] <= drawn_rows) ++drawn;
     stepped[0] = drawn;
     surface_seconds += seconds_since(t);
     t = std::chrono::steady_clock::now();
