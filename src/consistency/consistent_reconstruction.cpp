@@ -63,6 +63,28 @@ const InputStatistics& statistics_of(const ConsistencyOptions& options, const Im
   return own;
 }
 
+// The output grid of an image of W x H enlarged to out_w x out_h, all rows.
+RenderGrid output_grid(int W, int H, int out_w, int out_h) {
+  RenderGrid grid;
+  grid.width = out_w;
+  grid.height = out_h;
+  grid.scale_x = static_cast<double>(out_w) / W;
+  grid.scale_y = static_cast<double>(out_h) / H;
+  return grid;
+}
+
+// Hands output rows [first, end) of `held` (which holds output rows from
+// `origin`) to options.output_rows, a copy of each.
+void hand_out(const Image& held, int origin, int first, int end, const ConsistencyOptions& options) {
+  if (!options.output_rows || first >= end) return;
+  Image part;
+  part.width = held.width, part.height = end - first, part.channels = held.channels;
+  const std::ptrdiff_t row_floats = static_cast<std::ptrdiff_t>(held.width) * held.channels;
+  part.pixels.assign(held.pixels.begin() + row_floats * (first - origin),
+                     held.pixels.begin() + row_floats * (end - origin));
+  options.output_rows(std::move(part), first);
+}
+
 bool kept_exactly(const AcquisitionModel& model, int W, int H, int out_w, int out_h) {
   return model.kind == AcquisitionModel::Kind::box && out_w % W == 0 && out_h % H == 0;
 }
@@ -100,12 +122,7 @@ void make_consistent(Image& out, const Mesh2& mesh, const Image& src, const Cons
   // decided by the whole image's residual, so that bands decide alike
   // (docs/consistency.md: every step was kept on Set5 and Set14).
   if (options.mesh_steps > 0) {
-    RenderGrid surface;
-    surface.width = out.width;
-    surface.height = out_h;
-    surface.scale_x = static_cast<double>(out.width) / W;
-    surface.scale_y = static_cast<double>(out_h) / H;
-    const RenderPlan plan(mesh, surface);
+    const RenderPlan plan(mesh, output_grid(W, H, out.width, out_h));
     std::vector<float> values(residual.size());
     for (int k = 0; k < options.mesh_steps; ++k) {
       std::transform(residual.begin(), residual.end(), values.begin(), [](double v) { return static_cast<float>(v); });
@@ -143,15 +160,6 @@ void make_consistent(Image& out, const Mesh2& mesh, const Image& src, const Cons
     if (draw_edges) local.step_edge_footprints += edges.render(out, first, end);
     if (options.limit_halos) local.halo_footprints += halos.limit(out, first, end);
   };
-  auto hand_out = [&](int first, int end) {  // output rows
-    if (!options.output_rows || first >= end) return;
-    Image part;
-    part.width = out.width, part.height = end - first, part.channels = C;
-    const std::ptrdiff_t row_floats = static_cast<std::ptrdiff_t>(out.width) * C;
-    part.pixels.assign(out.pixels.begin() + row_floats * (first - rows.out_origin),
-                       out.pixels.begin() + row_floats * (end - rows.out_origin));
-    options.output_rows(std::move(part), first);
-  };
   // Box at integer scales acquires exactly the footprint means the last
   // steps keep; elsewhere they move the acquisition, and one more exact
   // correction on the grid follows.
@@ -162,7 +170,7 @@ void make_consistent(Image& out, const Mesh2& mesh, const Image& src, const Cons
     for (int first = rows.top; first < rows.end; first += step) {
       const int end = std::min(rows.end, first + step);
       finish_rows(first, end);
-      hand_out(footprints.first_y[first], footprints.first_y[end]);
+      hand_out(out, rows.out_origin, footprints.first_y[first], footprints.first_y[end], options);
     }
   } else {
     finish_rows(rows.top, rows.end);
@@ -173,7 +181,7 @@ void make_consistent(Image& out, const Mesh2& mesh, const Image& src, const Cons
       grid.add_to(out, delta, -1, -1, rows.out_origin, rows.top);
     }
     for (int first = rows.out_origin; first < rows.out_end; first += band_out_rows)
-      hand_out(first, std::min(rows.out_end, first + band_out_rows));
+      hand_out(out, rows.out_origin, first, std::min(rows.out_end, first + band_out_rows), options);
   }
   local.seconds_render = seconds_since(t0);
   if (stats) *stats = local;
@@ -217,11 +225,7 @@ void make_consistent_streamed(int out_width, int out_height, const std::vector<f
   if (options.band.image_height > 0 || options.band.out_height > 0)
     throw Error("the consistent reconstruction: a streamed surface is the whole image's");
   const int W = src.width, H = src.height, C = src.channels;
-  RenderGrid surface_grid;
-  surface_grid.width = out_width;
-  surface_grid.height = out_height;
-  surface_grid.scale_x = static_cast<double>(out_width) / W;
-  surface_grid.scale_y = static_cast<double>(out_height) / H;
+  const RenderGrid surface_grid = output_grid(W, H, out_width, out_height);
   double surface_seconds = 0;
   if (!make_consistent_streams(options.model, W, H, out_width, out_height)) {
     const auto t = std::chrono::steady_clock::now();
@@ -310,6 +314,7 @@ void make_consistent_streamed(int out_width, int out_height, const std::vector<f
         acquisition.apply(window, window_origin, a, b, acquired);
         if (k == K) last_residual.make_room(b, keep);
         std::vector<double> row_max(b - a, 0.0);
+        double* const last = k == K ? last_residual.row(a) : nullptr;
         tbb::parallel_for(a, b, [&](int y) {
           const std::size_t first = row_size * (y - a);
           for (std::size_t i = first; i < first + row_size; ++i) {
@@ -317,7 +322,7 @@ void make_consistent_streamed(int out_width, int out_height, const std::vector<f
             const double r = double(src.pixels[at]) - acquired[i];
             row_max[y - a] = std::max(row_max[y - a], std::abs(r));
             if (k < K) step_values[k][at] = static_cast<float>(r);
-            else last_residual.row(a)[i] = r;
+            else last[i] = r;
           }
         });
         if (k == 0) local.residual_before = std::max(local.residual_before, max_abs(row_max));
@@ -370,15 +375,8 @@ void make_consistent_streamed(int out_width, int out_height, const std::vector<f
         local.step_edge_footprints += StepEdgeRenderer(src, statistics, band).render(window, finished, finishable);
       if (options.limit_halos)
         local.halo_footprints += HaloLimiter(src, statistics, band).limit(window, finished, finishable);
-      const std::ptrdiff_t row_floats = static_cast<std::ptrdiff_t>(out_width) * C;
-      for (int first = row_of[finished]; first < row_of[finishable]; first += band_out_rows) {
-        const int end = std::min(row_of[finishable], first + band_out_rows);
-        Image part;
-        part.width = out_width, part.height = end - first, part.channels = C;
-        part.pixels.assign(window.pixels.begin() + row_floats * (first - window_origin),
-                           window.pixels.begin() + row_floats * (end - window_origin));
-        options.output_rows(std::move(part), first);
-      }
+      for (int first = row_of[finished]; first < row_of[finishable]; first += band_out_rows)
+        hand_out(window, window_origin, first, std::min(row_of[finishable], first + band_out_rows), options);
       finished = finishable;
       if (options.progress) options.progress->set(finished);
     }

@@ -213,21 +213,12 @@ void draw_planned(Image& out, int out_row, const RenderPlan::Prepared& plan, con
   const bool by_shape =
       plan.shapes_possible && output_per_input <= (gradients ? shape_max_scale2_cubic : shape_max_scale2_linear);
   // Rows of groups: row r starts a group when r == row0 or a vertex lies in
-  // (r - 1, r]; within a group the same triangles cross every row.
+  // (r - 1, r] (the plan's group_starts); within a group the same triangles
+  // cross every row.
   const int rows = row1 - row0;
-  std::vector<unsigned char> group_start(static_cast<std::size_t>(rows) + 1, 0);
-  group_start[0] = 1;
-  for (int r = row0 + 1; r < row1; ++r) {
-    const auto [first, end] = plan.vertices_of_rows(r, r + 1);
-    if (first != end) group_start[r - row0] = 1;
-  }
-  for (std::size_t i = 0; i < geometry.rim_points.size(); ++i) {
-    const Point2 p = scene.pos(scene.V + static_cast<index_t>(i));
-    if (p.y > row0 && p.y <= row1 - 1) group_start[ceil_int(p.y) - row0] = 1;
-  }
   std::vector<int> group_first, group_of_row(rows);
   for (int r = 0; r < rows; ++r) {
-    if (group_start[r]) group_first.push_back(row0 + r);
+    if (r == 0 || plan.group_starts[row0 + r]) group_first.push_back(row0 + r);
     group_of_row[r] = static_cast<int>(group_first.size()) - 1;
   }
   const int groups = static_cast<int>(group_first.size());
