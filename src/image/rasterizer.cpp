@@ -260,8 +260,9 @@ void draw_planned(Image& out, int out_row, const RenderPlan::Prepared& plan, con
     return &out.pixels[out.index(static_cast<int>(p.x), static_cast<int>(p.y) - shift)];
   };
   // Only the vertices of the rows drawn can fall on their pixels.
-  const auto [window_first, window_end] = plan.vertices_of_rows(row0, row1);
-  const std::size_t window_vertices = static_cast<std::size_t>(window_end - window_first);
+  const auto window_range = plan.vertices_of_rows(row0, row1);
+  const index_t* const window_first = window_range.first;  // a plain name: lambdas below capture it
+  const std::size_t window_vertices = static_cast<std::size_t>(window_range.second - window_first);
   std::vector<float> pixels_before;
   if (add && !(plan.lattice && (phase.x != 0 || phase.y != 0))) {  // else no vertex is on a pixel centre
     pixels_before.resize(window_vertices * C);
