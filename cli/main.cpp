@@ -21,7 +21,9 @@
 #include "util/thread_limit.hpp"
 #include "util/timing.hpp"
 
+#include <CGAL/version.h>
 #include <OpenImageIO/imageio.h>
+#include <oneapi/tbb/version.h>
 
 
 #include <chrono>
@@ -162,6 +164,10 @@ int run_upscale(int argc, char** argv) {
       return 0;
     case UpscaleCommandLine::Action::list_costs:
       for (const auto& c : ddt::cost_functions()) std::cout << c.name << "\n";
+      return 0;
+    case UpscaleCommandLine::Action::version:
+      std::cout << "ddtscale " << DDTSCALE_VERSION << " (OpenImageIO " << OIIO_VERSION_STRING << ", CGAL "
+                << CGAL_VERSION_STR << ", TBB " << TBB_VERSION_MAJOR << "." << TBB_VERSION_MINOR << ")\n";
       return 0;
     case UpscaleCommandLine::Action::usage_error:
       std::cerr << "ddtscale: " << line.text << "\n";

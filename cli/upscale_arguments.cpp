@@ -91,8 +91,9 @@ UpscaleCommandLine parse_upscale_command_line(int argc, const char* const* argv)
   app.add_option("--mesh-roi", args.mesh_roi,
                  "x,y,w,h: the input region the mesh view shows (default: all of an image up to 256x256, "
                  "else its central 128x128)");
-  bool list_costs = false;
+  bool list_costs = false, version = false;
   app.add_flag("--list-costs", list_costs, "print the cost names, one a line, and exit");
+  app.add_flag("-V,--version", version, "print the version of ddtscale and of the libraries it runs on, and exit");
   add_optimizer_options(app, args.optimizer, args.anneal);
   app.add_flag("-v,--verbose", args.verbose, "report iterations, flips, cost and the time of each stage");
   app.add_flag("-q,--quiet", args.quiet, "print nothing but errors (and no progress bar)");
@@ -145,12 +146,17 @@ UpscaleCommandLine parse_upscale_command_line(int argc, const char* const* argv)
       "  ddtscale in.png out.exr --scale 10\n"
       "  ddtscale in.png side.png --scale 8 --compare bicubic --mesh mesh.svg --mesh-roi 40,40,64,64\n"
       "  ddtscale a.png b.jpg scans/ 'more/*.tif' --outdir out/ --suffix _x4 --scale 4");
-  // --list-costs needs no files: answer it before the positional checks.
-  for (int i = 1; i < argc; ++i)
+  // --list-costs and --version need no files: answer them before the positional checks.
+  for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--list-costs") == 0) {
       line.action = UpscaleCommandLine::Action::list_costs;
       return line;
     }
+    if (std::strcmp(argv[i], "--version") == 0 || std::strcmp(argv[i], "-V") == 0) {
+      line.action = UpscaleCommandLine::Action::version;
+      return line;
+    }
+  }
   try {
     app.parse(argc, argv);
     args.scale_given = app.count("--scale") > 0;

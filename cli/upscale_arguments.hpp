@@ -68,6 +68,7 @@ struct UpscaleCommandLine {
     batch,        // many files: `batch`, `batch_inputs`, `forwarded`
     help,         // print `text` on stdout, exit 0
     list_costs,   // print the cost names, exit 0
+    version,      // print the version and the libraries', exit 0
     usage_error,  // print "ddtscale: " + `text` on stderr, exit 2
   };
   Action action = Action::run;

@@ -78,6 +78,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       require(!line.text.empty());
       return 0;
     case Action::list_costs:
+    case Action::version:
       return 0;
     case Action::usage_error:
       require(one_line(line.text));

@@ -87,6 +87,8 @@ run_ok "scene" scene edge_30 "$work/scene.png" --size 40x30
 run_fail "scene unknown" scene nope "$work/scene.png"
 run_ok "list costs" --list-costs
 grep -qx "variance" "$work/out.txt" && ok || bad "--list-costs lacks variance"
+run_ok "version" --version
+grep -Eq "^ddtscale [0-9]+[.][0-9]+[.][0-9]+ [(]OpenImageIO [0-9.]+, CGAL [0-9.]+, TBB [0-9.]+[)]$" "$work/out.txt" && ok || bad "--version: $(cat "$work/out.txt")"
 
 # Degenerate images.
 oiiotool --pattern constant:color=0.5 1x1 3 -o "$work/one.png"
@@ -97,7 +99,7 @@ for f in one row col flat; do run_ok "degenerate $f" "$work/$f.png" "$work/${f}_
 
 # --help documents every option.
 run_ok "help" --help
-for opt in --scale --width --height --cost --cost-channel --no-optimize --tolerance --max-pixels --render --slopes --model --compare --mesh --mesh-roi --list-costs --verbose --quiet; do
+for opt in --scale --width --height --cost --cost-channel --no-optimize --tolerance --max-pixels --render --slopes --model --compare --mesh --mesh-roi --list-costs --version --verbose --quiet; do
   grep -q -- "$opt" "$work/out.txt" && ok || bad "--help does not mention $opt"
 done
 

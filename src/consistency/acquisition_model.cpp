@@ -142,19 +142,42 @@ std::vector<std::vector<std::pair<int, double>>> by_input_pixel(const AxisWeight
   return by;
 }
 
+namespace {
+
+bool one_weight_each(const AxisWeights& w) {
+  for (std::size_t X = 0; X + 1 < w.first.size(); ++X)
+    if (w.first[X + 1] - w.first[X] != 1) return false;
+  return true;
+}
+
+}  // namespace
+
 Acquisition::Acquisition(const AcquisitionModel& model, int in_width, int in_height, int out_width, int out_height)
     : in_width_(in_width),
       in_height_(in_height),
       out_width_(out_width),
       out_height_(out_height),
       wx_(axis_weights(model, in_width, out_width)),
-      by_row_(by_input_pixel(axis_weights(model, in_height, out_height), in_height)) {
+      by_row_(by_input_pixel(axis_weights(model, in_height, out_height), in_height)),
+      one_weight_per_column_(one_weight_each(wx_)) {
   const double step = static_cast<double>(in_height) / out_height;
   for (int jy = 0; jy < in_height; ++jy)
     for (const auto& e : by_row_[jy]) {
       const int centre_row = std::clamp(static_cast<int>((e.first + 0.5) * step), 0, in_height - 1);
       reach_ = std::max(reach_, std::abs(centre_row - jy));
     }
+}
+
+// The general loop's additions in its order, so the same bits; with the
+// channel count known and one weight a column (box and point-like models
+// at integer scales) the compiler unrolls it.
+template <int C>
+void Acquisition::add_columns(const float* p, double* row) const {
+  for (int X = 0; X < out_width_; ++X, p += C) {
+    double* q = row + static_cast<std::size_t>(wx_.pixel[X]) * C;
+    const double w = wx_.weight[X];
+    for (int c = 0; c < C; ++c) q[c] += w * p[c];
+  }
 }
 
 std::pair<int, int> Acquisition::rows_covered(int out_first, int out_end, int first, int end) const {
@@ -190,12 +213,17 @@ void Acquisition::apply(const Image& out, int out_origin, int first, int end, st
     std::vector<double> row(row_size);
     for (const auto& [Y, wrow] : by_row_[jy]) {
       std::fill(row.begin(), row.end(), 0.0);
-      for (int X = 0; X < out.width; ++X) {
-        const float* p = &out.pixels[out.index(X, Y - out_origin)];
-        for (int k = wx_.first[X]; k < wx_.first[X + 1]; ++k) {
-          double* q = &row[static_cast<std::size_t>(wx_.pixel[k]) * C];
-          for (int c = 0; c < C; ++c) q[c] += wx_.weight[k] * p[c];
-        }
+      const float* p = &out.pixels[out.index(0, Y - out_origin)];
+      switch (one_weight_per_column_ ? C : 0) {
+        case 1: add_columns<1>(p, row.data()); break;
+        case 3: add_columns<3>(p, row.data()); break;
+        case 4: add_columns<4>(p, row.data()); break;
+        default:
+          for (int X = 0; X < out.width; ++X, p += C)
+            for (int k = wx_.first[X]; k < wx_.first[X + 1]; ++k) {
+              double* q = &row[static_cast<std::size_t>(wx_.pixel[k]) * C];
+              for (int c = 0; c < C; ++c) q[c] += wx_.weight[k] * p[c];
+            }
       }
       for (std::size_t i = 0; i < row_size; ++i) acc[i] += wrow * row[i];
     }

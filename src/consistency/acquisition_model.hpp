@@ -75,7 +75,11 @@ class Acquisition {
   int in_width_, in_height_, out_width_, out_height_;
   AxisWeights wx_;
   std::vector<std::vector<std::pair<int, double>>> by_row_;  // input row -> (output row, weight)
+  bool one_weight_per_column_;                                // every output column feeds one input pixel
   int reach_ = 0;
+
+  template <int C>
+  void add_columns(const float* p, double* row) const;
 };
 
 }  // namespace ddt

@@ -13,6 +13,7 @@
 
 #include <doctest/doctest.h>
 
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -62,6 +63,38 @@ TEST_CASE("axis_weights: every input pixel's weights sum to 1, box weights are t
   CHECK(w.weight[0] == doctest::Approx(2.0 / 3));
   CHECK(w.weight[1] == doctest::Approx(1.0 / 3));
   CHECK(w.weight[2] == doctest::Approx(1.0 / 3));
+}
+
+TEST_CASE("Acquisition: every channel count, one weight a column or several, is the weighted sum of the output") {
+  // The reference: each input pixel sums its output rows' weighted column
+  // sums, in output order (the order the acquisition adds them, so equal bits).
+  for (const char* name : {"box", "gauss:0.6"})
+    for (int C : {1, 2, 3, 4})
+      for (auto [w, h, ow, oh] : {std::array{8, 6, 32, 24}, std::array{8, 6, 24, 18}, std::array{9, 7, 20, 15}}) {
+        CAPTURE(name);
+        CAPTURE(C);
+        CAPTURE(ow);
+        const AcquisitionModel model = parse_acquisition_model(name);
+        const Image out = noise_image(ow, oh, C, 11 + C);
+        const AxisWeights wx = axis_weights(model, w, ow);
+        const auto by_row = by_input_pixel(axis_weights(model, h, oh), h);
+        std::vector<double> values;
+        Acquisition(model, w, h, ow, oh).apply(out, 0, 0, h, values);
+        REQUIRE(values.size() == static_cast<std::size_t>(w) * h * C);
+        for (int jy = 0; jy < h; ++jy)
+          for (int jx = 0; jx < w; ++jx)
+            for (int c = 0; c < C; ++c) {
+              double expected = 0;
+              for (const auto& [Y, wy] : by_row[jy]) {
+                double row = 0;
+                for (int X = 0; X < ow; ++X)
+                  for (int k = wx.first[X]; k < wx.first[X + 1]; ++k)
+                    if (wx.pixel[k] == jx) row += wx.weight[k] * out.at(X, Y, c);
+                expected += wy * row;
+              }
+              CHECK(values[(static_cast<std::size_t>(jy) * w + jx) * C + c] == expected);
+            }
+      }
 }
 
 TEST_CASE("Acquisition: rows of input from the output rows they read equal the whole acquisition") {
