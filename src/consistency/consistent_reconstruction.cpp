@@ -196,13 +196,14 @@ namespace {
 // Rows [origin, origin + capacity) of an array at input resolution
 // (row_size values a row), for a wavefront: rows it has left behind make
 // room for the rows ahead.
+template <typename T>
 struct SlidingRows {
   SlidingRows(std::size_t row_size, int capacity) : values(row_size * capacity), row_size(row_size), capacity(capacity) {}
-  std::vector<double> values;
+  std::vector<T> values;
   std::size_t row_size;
   int capacity, origin = 0;
 
-  double* row(int y) { return values.data() + row_size * (y - origin); }
+  T* row(int y) { return values.data() + row_size * (y - origin); }
   // Rows up to `end` made room for, keeping rows from `keep` on.
   void make_room(int end, int keep) {
     if (end - origin <= capacity) return;
@@ -210,7 +211,7 @@ struct SlidingRows {
     origin = keep;
     if (end - origin > capacity) throw Error("the consistent reconstruction: a wavefront overran");
   }
-  std::vector<double> rows(int first, int end) const {
+  std::vector<T> rows(int first, int end) const {
     return {values.begin() + static_cast<std::ptrdiff_t>(row_size * (first - origin)),
             values.begin() + static_cast<std::ptrdiff_t>(row_size * (end - origin))};
   }
@@ -265,11 +266,13 @@ void make_consistent_streamed(int out_width, int out_height, const std::vector<f
   std::vector<int> residual_done(K + 1, 0), stepped(K + 1, 0);
   const std::size_t row_size = static_cast<std::size_t>(W) * C;
   // The values of mesh step k + 1 (the residual after k steps, as floats,
-  // by vertex); the last residual and the grid correction, by rows.
-  std::vector<std::vector<float>> step_values(K);
-  for (auto& v : step_values) v.assign(row_size * H, 0.0f);
+  // by vertex: a lattice's vertex is its pixel), from the rows its render
+  // still reads (a triangle's height before the rows it adds) to the rows
+  // written; the last residual and the grid correction, by rows.
+  const int step_rows = std::min(H, 2 * step + 4 * mesh_reach + 16);
+  std::vector<SlidingRows<float>> step_values(K, SlidingRows<float>(row_size, step_rows));
   const int sliding_rows = std::min(H, lag + solve_reach + step + 8);
-  SlidingRows last_residual(row_size, sliding_rows), delta(row_size, sliding_rows);
+  SlidingRows<double> last_residual(row_size, sliding_rows), delta(row_size, sliding_rows);
   std::vector<double> acquired, solved_rows, acquired_delta;
   // Output rows [window_origin, window_origin + window.height) of which
   // [row_of[finished], drawn_rows) are in use; finished rows make room.
@@ -313,15 +316,17 @@ void make_consistent_streamed(int out_width, int out_height, const std::vector<f
         const int a = residual_done[k], b = stepped[k];
         acquisition.apply(window, window_origin, a, b, acquired);
         if (k == K) last_residual.make_room(b, keep);
+        else step_values[k].make_room(b, std::max(0, stepped[k + 1] - 2 * mesh_reach));
         std::vector<double> row_max(b - a, 0.0);
         double* const last = k == K ? last_residual.row(a) : nullptr;
+        float* const next_step = k < K ? step_values[k].row(a) : nullptr;
         tbb::parallel_for(a, b, [&](int y) {
           const std::size_t first = row_size * (y - a);
           for (std::size_t i = first; i < first + row_size; ++i) {
             const std::size_t at = row_size * a + i;
             const double r = double(src.pixels[at]) - acquired[i];
             row_max[y - a] = std::max(row_max[y - a], std::abs(r));
-            if (k < K) step_values[k][at] = static_cast<float>(r);
+            if (k < K) next_step[i] = static_cast<float>(r);
             else last[i] = r;
           }
         });
@@ -332,14 +337,17 @@ void make_consistent_streamed(int out_width, int out_height, const std::vector<f
       const int ready = residual_done[k] == H ? H : std::max(stepped[k + 1], residual_done[k] - mesh_reach);
       if (ready > stepped[k + 1]) {
         const int first = row_of[stepped[k + 1]];
-        add_mesh_render_into(window, first - window_origin, *plan, step_values[k], C, first, row_of[ready] - first);
+        const SlidingRows<float>& rows = step_values[k];
+        const VertexValues held{rows.values.data(), index_t(rows.origin) * W,
+                                index_t(std::min(H, rows.origin + rows.capacity)) * W};
+        add_mesh_render_into(window, first - window_origin, *plan, held, C, first, row_of[ready] - first);
         stepped[k + 1] = ready;
       }
     }
     if (plan && stepped[K] == H) {  // the mesh is read no more
       local.mesh_steps = K;
       plan.reset();
-      std::vector<std::vector<float>>().swap(step_values);
+      std::vector<SlidingRows<float>>().swap(step_values);
       if (options.mesh_done) options.mesh_done();
     }
     const int solvable = residual_done[K] == H ? H : std::max(solved, residual_done[K] - solve_reach);

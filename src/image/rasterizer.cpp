@@ -167,7 +167,7 @@ namespace {
 // to the pixels' values instead of writing it.
 void draw_planned(Image& out, int out_row, const RenderPlan::Prepared& plan, const std::vector<float>& values, int C,
                   int first_row, int grid_rows, RenderStats* stats, const std::vector<float>* gradients,
-                  Progress* progress, bool add) {
+                  Progress* progress, bool add, const VertexValues* window = nullptr) {
   const SceneGeometry& geometry = plan.geometry;
   const Mesh2& mesh = geometry.mesh;
   const RenderGrid& grid = geometry.grid;
@@ -175,7 +175,15 @@ void draw_planned(Image& out, int out_row, const RenderPlan::Prepared& plan, con
   if (gradients && (gradients->size() != values.size() * 2 || C > max_channels))
     throw Error("render_mesh: cubic mode needs #V x C x 2 gradients and at most 16 channels");
   if (C > max_channels) throw Error("render_mesh: at most 16 channels");
-  if (values.size() < static_cast<std::size_t>(geometry.V) * C) throw Error("render_mesh: fewer values than vertices");
+  if (window) {
+    // Only the walk and the shapes read values by vertex; the other paths read them all.
+    if (!add || gradients || geometry.T == 0 || !geometry.hull_convex)
+      throw Error("render_mesh: a window of values draws only an added surface on a mesh with a convex hull");
+    if (window->first < 0 || window->end < window->first || (window->end > window->first && !window->data))
+      throw Error("render_mesh: a window of values without its values");
+  } else if (values.size() < static_cast<std::size_t>(geometry.V) * C) {
+    throw Error("render_mesh: fewer values than vertices");
+  }
   if (add && !fill_outside) throw Error("render_mesh: an added render draws the rim");
   RenderStats local;
   const int row0 = grid_rows < 0 ? 0 : std::clamp(first_row, 0, grid.height);
@@ -203,6 +211,7 @@ void draw_planned(Image& out, int out_row, const RenderPlan::Prepared& plan, con
   // Grid row y goes to out row y - shift.
   const int shift = row0 - out_row;
   Scene scene(geometry, values, C);
+  scene.window = window;
   scene.gradients = gradients;
   scene.add = add;
   if (gradients && fill_outside) scene.rim_patches = make_rim_patches(scene);
@@ -358,6 +367,12 @@ void render_mesh_into(Image& out, int out_row, const RenderPlan& plan, const std
 void add_mesh_render_into(Image& out, int out_row, const RenderPlan& plan, const std::vector<float>& values, int C,
                           int first_row, int rows, RenderStats* stats) {
   draw_planned(out, out_row, plan.prepared(), values, C, first_row, rows, stats, nullptr, nullptr, true);
+}
+
+void add_mesh_render_into(Image& out, int out_row, const RenderPlan& plan, const VertexValues& values, int C,
+                          int first_row, int rows, RenderStats* stats) {
+  static const std::vector<float> none;
+  draw_planned(out, out_row, plan.prepared(), none, C, first_row, rows, stats, nullptr, nullptr, true, &values);
 }
 
 void render_mesh_into(Image& out, int out_row, const Mesh2& mesh, const std::vector<float>& values, int C,

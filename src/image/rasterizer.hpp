@@ -164,4 +164,16 @@ void render_mesh_into(Image& out, int out_row, const RenderPlan& plan, const std
 void add_mesh_render_into(Image& out, int out_row, const RenderPlan& plan, const std::vector<float>& values, int C,
                           int first_row, int rows, RenderStats* stats = nullptr);
 
+// The values of vertices [first, end) only, vertex v's C at data[(v - first) * C]:
+// a window of rows of a lattice's values, which slides with the rows drawn.
+struct VertexValues {
+  const float* data = nullptr;
+  index_t first = 0, end = 0;
+};
+// add_mesh_render_into reading only those values. Errors: ddt::Error when
+// a triangle drawn has a vertex outside [first, end), or the hull is not
+// convex (a mesh a window of values cannot draw).
+void add_mesh_render_into(Image& out, int out_row, const RenderPlan& plan, const VertexValues& values, int C,
+                          int first_row, int rows, RenderStats* stats = nullptr);
+
 }  // namespace ddt

@@ -7,6 +7,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -564,4 +565,70 @@ TEST_CASE("RenderPlan: refuses what it cannot draw") {
                   Error);
   CHECK_THROWS_AS(render_mesh_into(out, 4, plan, values, 1, 0, 15), Error);  // rows beyond the image
   CHECK_NOTHROW(render_mesh_into(out, 4, plan, values, 1, 3, 11));
+}
+
+TEST_CASE("add_mesh_render_into: a window of rows of values draws the whole values' bits, and a vertex beyond it is refused") {
+  // An optimized lattice (vertex y * W + x): long triangles, rows of
+  // vertices a window of output rows reaches found from the mesh itself.
+  const int W = 60, H = 40;
+  Mesh2 m = delaunay_triangulation(test::grid_points(W, H));
+  optimize_lawson(m, random_values(m.points.size(), 1, 12), 1, find_cost("sederberg"));
+  int span = 0;  // the most rows a triangle spans
+  for (std::size_t t = 0; 3 * t < m.tri.size(); ++t) {
+    int lo = H, hi = 0;
+    for (int i = 0; i < 3; ++i) {
+      const int row = static_cast<int>(m.tri[3 * t + i]) / W;
+      lo = std::min(lo, row), hi = std::max(hi, row);
+    }
+    span = std::max(span, hi - lo);
+  }
+  REQUIRE(span > 1);
+  for (double scale : {3.0, 2.5}) {
+    CAPTURE(scale);
+    const int C = 3;
+    const RenderGrid g = grid_for(W, H, static_cast<int>(W * scale), static_cast<int>(H * scale));
+    const RenderPlan plan(m, g);
+    const std::vector<float> values = random_values(m.points.size(), C, 17);
+    Image whole(g.width, g.height, C);
+    whole.pixels = random_values(whole.pixel_count(), C, 19);
+    Image windows = whole;
+    add_mesh_render_into(whole, 0, m, values, C, g);
+    // The vertex rows a window of output rows [first, end) reads: around the
+    // input rows its samples (at (Y + 0.5) / scale, vertices at row + 0.5) fall in.
+    auto vertex_rows = [&](int first, int end) {
+      const int top = static_cast<int>(std::floor((first + 0.5) / scale - 0.5)) - span - 1;
+      const int bottom = static_cast<int>(std::ceil((end - 0.5) / scale - 0.5)) + span + 2;
+      return std::pair{std::clamp(top, 0, H), std::clamp(bottom, 0, H)};
+    };
+    for (int first = 0; first < g.height;) {
+      const int rows = plan.window_boundary(first + 7) - first;
+      const auto [top, bottom] = vertex_rows(first, first + rows);
+      // Only the window's values, in a buffer of their own.
+      const std::vector<float> held(values.begin() + static_cast<std::ptrdiff_t>(top) * W * C,
+                                    values.begin() + static_cast<std::ptrdiff_t>(bottom) * W * C);
+      add_mesh_render_into(windows, first, plan, VertexValues{held.data(), index_t(top) * W, index_t(bottom) * W}, C,
+                           first, rows);
+      first += rows;
+    }
+    CHECK(std::memcmp(windows.pixels.data(), whole.pixels.data(), whole.pixels.size() * sizeof(float)) == 0);
+    // A window in the middle without the row of vertices at or above its first samples.
+    const int first = plan.window_boundary(g.height / 2);
+    const int needed = static_cast<int>(std::floor((first + 0.5) / scale - 0.5));
+    const auto [top, bottom] = vertex_rows(first, first + 4);
+    REQUIRE(needed >= top);
+    const std::vector<float> short_of_one(values.begin() + static_cast<std::ptrdiff_t>(needed + 1) * W * C,
+                                          values.begin() + static_cast<std::ptrdiff_t>(bottom) * W * C);
+    Image out(g.width, 4, C);
+    CHECK_THROWS_AS(add_mesh_render_into(out, 0, plan,
+                                         VertexValues{short_of_one.data(), index_t(needed + 1) * W, index_t(bottom) * W},
+                                         C, first, 4),
+                    Error);
+  }
+  // A window of values draws only an added surface on a convex hull.
+  const Mesh2 notched = u_shaped_grid();
+  const RenderGrid g = grid_for(5, 3, 10, 6);
+  const std::vector<float> values = random_values(notched.points.size(), 1, 3);
+  Image out(10, 6, 1);
+  const VertexValues all{values.data(), 0, index_t(notched.points.size())};
+  CHECK_THROWS_AS(add_mesh_render_into(out, 0, RenderPlan(notched, g), all, 1, 0, 6), Error);
 }

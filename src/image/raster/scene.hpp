@@ -7,6 +7,7 @@
 #include "core/predicates.hpp"
 #include "image/mesh.hpp"
 #include "image/rasterizer.hpp"
+#include "util/error.hpp"
 
 #include <algorithm>
 #include <array>
@@ -97,6 +98,7 @@ struct Scene {
   index_t V, T;
   const std::vector<float>& values;
   int C;
+  const VertexValues* window = nullptr;  // set: linear mode reads only these vertices' values
   const std::vector<float>* gradients = nullptr;  // cubic mode
   bool add = false;  // linear mode: values added to the pixels' own (add_mesh_render_into)
   // Cubic mode: the Bézier control values of each rim triangle, C each.
@@ -107,7 +109,12 @@ struct Scene {
   const Point2& input_point(index_t v) const { return geometry.input_point(v); }
   Point2 pos(index_t v) const { return geometry.pos(v); }
   index_t source(index_t v) const { return geometry.source(v); }
-  const float* value(index_t v) const { return &values[static_cast<std::size_t>(source(v)) * C]; }
+  const float* value(index_t v) const {
+    if (!window) return &values[static_cast<std::size_t>(source(v)) * C];
+    const index_t s = source(v);
+    if (s < window->first || s >= window->end) throw Error("render_mesh: a vertex beyond the window of values");
+    return window->data + static_cast<std::size_t>(s - window->first) * C;
+  }
   bool exact(index_t v) const { return geometry.exact(v); }
   index_t tail(index_t e) const { return geometry.tail(e); }
   index_t twin(index_t e) const { return geometry.twin(e); }
