@@ -420,6 +420,7 @@ py::array grid(const py::array& points, const py::array& values, const py::objec
 
 PYBIND11_MODULE(_ddtscale, m) {
   m.doc() = "The compiled half of ddtscale; use the functions of the ddtscale package.";
+  m.attr("version") = DDTSCALE_VERSION;
   // Freed bands reused, but large buffers still returned to the system:
   // the interpreter's process is shared.
   ddt::tune_allocator(ddt::AllocatorUse::general);

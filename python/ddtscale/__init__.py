@@ -33,6 +33,9 @@ if TYPE_CHECKING:
 
     import numpy as np
 
+#: The version of ddtscale, as `ddtscale --version` prints it.
+__version__: str = _ddtscale.version
+
 __all__ = ["upscale", "upscale_volume", "upscale_sequence", "grid", "UPSCALE_OPTIONS", "UPSCALE_FILE_OPTIONS", "VOLUME_OPTIONS",
            "SEQUENCE_OPTIONS", "GRID_OPTIONS"]
 

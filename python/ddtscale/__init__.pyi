@@ -6,6 +6,7 @@ from typing import Any, Literal, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
+__version__: str
 UPSCALE_OPTIONS: dict[str, Any]
 UPSCALE_FILE_OPTIONS: dict[str, Any]
 VOLUME_OPTIONS: dict[str, Any]

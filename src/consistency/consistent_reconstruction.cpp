@@ -220,7 +220,7 @@ struct SlidingRows {
 }  // namespace
 
 void make_consistent_streamed(int out_width, int out_height, const std::vector<float>& values,
-                              const std::vector<float>* gradients, const Mesh2& mesh, const Image& src,
+                              const GradientRows& gradients, const Mesh2& mesh, const Image& src,
                               const ConsistencyOptions& options, ConsistencyStats* stats, RenderStats* render_stats) {
   if (!options.output_rows) throw Error("the consistent reconstruction: nowhere to hand the rows");
   if (options.band.image_height > 0 || options.band.out_height > 0)
@@ -231,7 +231,8 @@ void make_consistent_streamed(int out_width, int out_height, const std::vector<f
   if (!make_consistent_streams(options.model, W, H, out_width, out_height)) {
     const auto t = std::chrono::steady_clock::now();
     Image out(out_width, out_height, C);
-    render_mesh_into(out, 0, mesh, values, C, surface_grid, render_stats, true, gradients);
+    const std::vector<float> all = gradients ? gradients(0, H) : std::vector<float>();
+    render_mesh_into(out, 0, mesh, values, C, surface_grid, render_stats, true, gradients ? &all : nullptr);
     surface_seconds = seconds_since(t);
     make_consistent(out, mesh, src, options, stats);
     if (stats) stats->seconds_surface = surface_seconds;
@@ -269,10 +270,21 @@ void make_consistent_streamed(int out_width, int out_height, const std::vector<f
   // by vertex: a lattice's vertex is its pixel), from the rows its render
   // still reads (a triangle's height before the rows it adds) to the rows
   // written; the last residual and the grid correction, by rows.
-  const int step_rows = std::min(H, 2 * step + 4 * mesh_reach + 16);
+  // A lattice's mesh is drawn from windows of rows of values; other meshes
+  // (no triangles, a hull not convex) from all of them.
+  const bool slide = plan->adds_windows_of_values();
+  const int step_rows = slide ? std::min(H, 2 * step + 4 * mesh_reach + 16) : H;
   std::vector<SlidingRows<float>> step_values(K, SlidingRows<float>(row_size, step_rows));
   const int sliding_rows = std::min(H, lag + solve_reach + step + 8);
   SlidingRows<double> last_residual(row_size, sliding_rows), delta(row_size, sliding_rows);
+  // The cubic surface's gradients, from the rows its next rows reach to the
+  // rows made: [gradient_rows.origin, gradients_made).
+  SlidingRows<float> gradient_rows(gradients ? 2 * row_size : 0, slide ? std::min(H, 2 * step + 2 * mesh_reach + 16) : H);
+  int gradients_made = 0;
+  // The input row whose footprint holds output row Y.
+  auto input_row = [&](int Y) {
+    return static_cast<int>(std::upper_bound(row_of.begin(), row_of.end(), Y) - row_of.begin()) - 1;
+  };
   std::vector<double> acquired, solved_rows, acquired_delta;
   // Output rows [window_origin, window_origin + window.height) of which
   // [row_of[finished], drawn_rows) are in use; finished rows make room.
@@ -299,8 +311,27 @@ void make_consistent_streamed(int out_width, int out_height, const std::vector<f
         if (cut - window_origin > window.height) throw Error("the consistent reconstruction: a wavefront overran");
       }
       RenderStats rows_stats;
-      render_mesh_into(window, drawn_rows - window_origin, *plan, values, C, drawn_rows, cut - drawn_rows, &rows_stats,
-                       gradients);
+      if (gradients) {
+        // The rows of vertices of the triangles (and rim slabs) these output rows cross.
+        const int top = slide ? std::max(0, input_row(drawn_rows) - mesh_reach - 1) : 0;
+        const int bottom = slide ? std::min(H, input_row(cut - 1) + mesh_reach + 2) : H;
+        if (bottom > gradients_made) {
+          gradient_rows.make_room(bottom, std::min(top, gradients_made));
+          const int from = std::max(gradients_made, gradient_rows.origin);
+          const std::vector<float> made = gradients(from, bottom);
+          if (made.size() != gradient_rows.row_size * (bottom - from))
+            throw Error("the consistent reconstruction: gradients of another grid");
+          std::copy(made.begin(), made.end(), gradient_rows.row(from));
+          gradients_made = bottom;
+        }
+        const VertexValues held{gradient_rows.values.data(), index_t(gradient_rows.origin) * W,
+                                index_t(gradients_made) * W};
+        render_mesh_into(window, drawn_rows - window_origin, *plan, values, C, drawn_rows, cut - drawn_rows, held,
+                         &rows_stats);
+      } else {
+        render_mesh_into(window, drawn_rows - window_origin, *plan, values, C, drawn_rows, cut - drawn_rows,
+                         &rows_stats);
+      }
       if (render_stats) *render_stats = rows_stats;
       drawn_rows = cut;
       while (drawn < H && row_of[drawn + 1] <= drawn_rows) ++drawn;
@@ -338,9 +369,13 @@ void make_consistent_streamed(int out_width, int out_height, const std::vector<f
       if (ready > stepped[k + 1]) {
         const int first = row_of[stepped[k + 1]];
         const SlidingRows<float>& rows = step_values[k];
-        const VertexValues held{rows.values.data(), index_t(rows.origin) * W,
-                                index_t(std::min(H, rows.origin + rows.capacity)) * W};
-        add_mesh_render_into(window, first - window_origin, *plan, held, C, first, row_of[ready] - first);
+        if (rows.capacity == H) {  // kept whole: a mesh without triangles or with a hull not convex
+          add_mesh_render_into(window, first - window_origin, *plan, rows.values, C, first, row_of[ready] - first);
+        } else {
+          const VertexValues held{rows.values.data(), index_t(rows.origin) * W,
+                                  index_t(std::min(H, rows.origin + rows.capacity)) * W};
+          add_mesh_render_into(window, first - window_origin, *plan, held, C, first, row_of[ready] - first);
+        }
         stepped[k + 1] = ready;
       }
     }
@@ -348,6 +383,7 @@ void make_consistent_streamed(int out_width, int out_height, const std::vector<f
       local.mesh_steps = K;
       plan.reset();
       std::vector<SlidingRows<float>>().swap(step_values);
+      std::vector<float>().swap(gradient_rows.values);
       if (options.mesh_done) options.mesh_done();
     }
     const int solvable = residual_done[K] == H ? H : std::max(solved, residual_done[K] - solve_reach);

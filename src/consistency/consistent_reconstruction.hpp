@@ -95,19 +95,24 @@ struct ConsistencyStats {
 void make_consistent(Image& out, const Mesh2& mesh, const Image& src, const ConsistencyOptions& options,
                      ConsistencyStats* stats = nullptr);
 
+// The cubic render's vertex gradients of input rows [first, end): 2 C
+// floats a vertex (rasterizer.hpp), the lattice's vertices row by row.
+using GradientRows = std::function<std::vector<float>(int first, int end)>;
+
 // As make_consistent on the whole image, with the rendered surface (mesh
-// drawn from `values`, cubic where `gradients` are given: rasterizer.hpp)
+// drawn from `values`, cubic where `gradients` is set: rasterizer.hpp)
 // drawn here instead of held, and the result handed to
 // options.output_rows (required). Where make_consistent_streams() (box at
 // integer scales) the steps run as a wavefront down the rows: each on the
 // rows whose inputs the steps before have finished, so that only the
 // output rows between the first unfinished and the last drawn are held
-// (the steps' reach: a few hundred output rows), not the whole output;
-// same bits. Elsewhere the surface is drawn whole and corrected by
+// (the steps' reach: a few hundred output rows), not the whole output, and
+// the gradients and the mesh steps' values of the rows the render still
+// reads; same bits. Elsewhere the surface is drawn whole and corrected by
 // make_consistent. `values` and `gradients` are not read after
 // options.mesh_done.
 void make_consistent_streamed(int out_width, int out_height, const std::vector<float>& values,
-                              const std::vector<float>* gradients, const Mesh2& mesh, const Image& src,
+                              const GradientRows& gradients, const Mesh2& mesh, const Image& src,
                               const ConsistencyOptions& options, ConsistencyStats* stats = nullptr,
                               RenderStats* render_stats = nullptr);
 bool make_consistent_streams(const AcquisitionModel& model, int width, int height, int out_width, int out_height);

@@ -139,6 +139,10 @@ RenderPlan::RenderPlan(const Mesh2& mesh, const RenderGrid& grid, bool fill_outs
   }
 }
 
+bool RenderPlan::adds_windows_of_values() const {
+  return prepared_->geometry.T > 0 && prepared_->geometry.hull_convex;
+}
+
 int RenderPlan::window_boundary(int row) const {
   const std::vector<unsigned char>& starts = prepared_->group_starts;
   const int height = prepared_->geometry.grid.height;
@@ -167,7 +171,8 @@ namespace {
 // to the pixels' values instead of writing it.
 void draw_planned(Image& out, int out_row, const RenderPlan::Prepared& plan, const std::vector<float>& values, int C,
                   int first_row, int grid_rows, RenderStats* stats, const std::vector<float>* gradients,
-                  Progress* progress, bool add, const VertexValues* window = nullptr) {
+                  Progress* progress, bool add, const VertexValues* window = nullptr,
+                  const VertexValues* gradient_window = nullptr) {
   const SceneGeometry& geometry = plan.geometry;
   const Mesh2& mesh = geometry.mesh;
   const RenderGrid& grid = geometry.grid;
@@ -175,6 +180,14 @@ void draw_planned(Image& out, int out_row, const RenderPlan::Prepared& plan, con
   if (gradients && (gradients->size() != values.size() * 2 || C > max_channels))
     throw Error("render_mesh: cubic mode needs #V x C x 2 gradients and at most 16 channels");
   if (C > max_channels) throw Error("render_mesh: at most 16 channels");
+  const bool cubic_mode = gradients || gradient_window;
+  if (gradient_window) {
+    if (add || gradients || window)
+      throw Error("render_mesh: a window of gradients draws only a cubic surface");
+    if (gradient_window->first < 0 || gradient_window->end < gradient_window->first ||
+        (gradient_window->end > gradient_window->first && !gradient_window->data))
+      throw Error("render_mesh: a window of gradients without its gradients");
+  }
   if (window) {
     // Only the walk and the shapes read values by vertex; the other paths read them all.
     if (!add || gradients || geometry.T == 0 || !geometry.hull_convex)
@@ -213,14 +226,15 @@ void draw_planned(Image& out, int out_row, const RenderPlan::Prepared& plan, con
   Scene scene(geometry, values, C);
   scene.window = window;
   scene.gradients = gradients;
+  scene.gradient_window = gradient_window;
   scene.add = add;
-  if (gradients && fill_outside) scene.rim_patches = make_rim_patches(scene);
+  if (cubic_mode && fill_outside) scene.rim_patches = make_rim_patches(scene);
   local.triangles = scene.T;
   local.rim_triangles = static_cast<long long>(geometry.rim_tris.size() / 3);
   const Point2 phase = plan.phase;
   const double output_per_input = grid.scale_x * grid.scale_y;  // pixels per input unit area
   const bool by_shape =
-      plan.shapes_possible && output_per_input <= (gradients ? shape_max_scale2_cubic : shape_max_scale2_linear);
+      plan.shapes_possible && output_per_input <= (cubic_mode ? shape_max_scale2_cubic : shape_max_scale2_linear);
   // Rows of groups: row r starts a group when r == row0 or a vertex lies in
   // (r - 1, r] (the plan's group_starts); within a group the same triangles
   // cross every row.
@@ -285,7 +299,7 @@ void draw_planned(Image& out, int out_row, const RenderPlan::Prepared& plan, con
   if (by_shape)
     for (std::size_t k = 0; k < plan.chunk_rows.size(); ++k)
       if (!(plan.chunk_rows[k].second < row0 || plan.chunk_rows[k].first >= row1)) chunks.push_back(static_cast<index_t>(k));
-  ShapeTable* shapes = by_shape ? &plan.shape_table(C, gradients != nullptr) : nullptr;
+  ShapeTable* shapes = by_shape ? &plan.shape_table(C, cubic_mode) : nullptr;
   if (progress) progress->begin("render", groups + static_cast<long long>(chunks.size()));
   std::atomic<long long> drawn{0}, power_pieces{0}, bernstein_pieces{0}, shaped{0};
   auto draw_groups = [&](auto channels, auto cubic) {
@@ -329,7 +343,7 @@ void draw_planned(Image& out, int out_row, const RenderPlan::Prepared& plan, con
       if (progress) progress->add(range.size());
     });
   };
-  const bool cubic = gradients != nullptr;
+  const bool cubic = cubic_mode;
   switch (C) {
     case 1: cubic ? draw_groups(channels<1>{}, std::true_type{}) : draw_groups(channels<1>{}, std::false_type{}); break;
     case 3: cubic ? draw_groups(channels<3>{}, std::true_type{}) : draw_groups(channels<3>{}, std::false_type{}); break;
@@ -362,6 +376,12 @@ void render_mesh_into(Image& out, int out_row, const RenderPlan& plan, const std
                       int first_row, int rows, RenderStats* stats, const std::vector<float>* gradients,
                       Progress* progress) {
   draw_planned(out, out_row, plan.prepared(), values, C, first_row, rows, stats, gradients, progress, false);
+}
+
+void render_mesh_into(Image& out, int out_row, const RenderPlan& plan, const std::vector<float>& values, int C,
+                      int first_row, int rows, const VertexValues& gradients, RenderStats* stats) {
+  draw_planned(out, out_row, plan.prepared(), values, C, first_row, rows, stats, nullptr, nullptr, false, nullptr,
+               &gradients);
 }
 
 void add_mesh_render_into(Image& out, int out_row, const RenderPlan& plan, const std::vector<float>& values, int C,

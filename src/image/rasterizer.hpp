@@ -148,6 +148,9 @@ class RenderPlan {
   int window_boundary(int row) const;
   // The last such row at or before `row`.
   int window_start(int row) const;
+  // Whether an added render can read a window of values (VertexValues):
+  // triangles and a convex hull (a lattice's mesh).
+  bool adds_windows_of_values() const;
 
   struct Prepared;
   const Prepared& prepared() const { return *prepared_; }
@@ -164,8 +167,9 @@ void render_mesh_into(Image& out, int out_row, const RenderPlan& plan, const std
 void add_mesh_render_into(Image& out, int out_row, const RenderPlan& plan, const std::vector<float>& values, int C,
                           int first_row, int rows, RenderStats* stats = nullptr);
 
-// The values of vertices [first, end) only, vertex v's C at data[(v - first) * C]:
-// a window of rows of a lattice's values, which slides with the rows drawn.
+// The values of vertices [first, end) only, vertex v's C (or, as gradients,
+// 2 C) at data[(v - first) * C] (2 C): a window of rows of a lattice's
+// values, which slides with the rows drawn.
 struct VertexValues {
   const float* data = nullptr;
   index_t first = 0, end = 0;
@@ -175,5 +179,10 @@ struct VertexValues {
 // convex (a mesh a window of values cannot draw).
 void add_mesh_render_into(Image& out, int out_row, const RenderPlan& plan, const VertexValues& values, int C,
                           int first_row, int rows, RenderStats* stats = nullptr);
+// render_mesh_into's cubic surface with the gradients of vertices [first,
+// end) only, 2 C each (x and y of every channel). Errors: ddt::Error when
+// a triangle drawn (or a rim patch) needs a vertex outside them.
+void render_mesh_into(Image& out, int out_row, const RenderPlan& plan, const std::vector<float>& values, int C,
+                      int first_row, int rows, const VertexValues& gradients, RenderStats* stats = nullptr);
 
 }  // namespace ddt

@@ -31,15 +31,17 @@
 namespace ddt {
 namespace {
 
-// grid_gradients in parallel: bands of rows with a halo of two rows (the
-// reach of its stencils), so every value is the one the whole image gives.
-std::vector<float> gradients_of(const Image& img, SlopeLimiter limiter) {
+// grid_gradients of rows [first, end) (default: all) in parallel: bands of
+// rows with a halo of two rows (the reach of its stencils), so every value
+// is the one the whole image gives.
+std::vector<float> gradients_of(const Image& img, SlopeLimiter limiter, int first = 0, int end = -1) {
   constexpr int band = 64, halo = 2;
-  if (img.height <= 2 * band) return grid_gradients(img, limiter);
-  std::vector<float> g(img.pixel_count() * img.channels * 2);
+  if (end < 0) end = img.height;
+  if (first == 0 && end == img.height && img.height <= 2 * band) return grid_gradients(img, limiter);
   const std::size_t row_floats = static_cast<std::size_t>(img.width) * img.channels;
-  tbb::parallel_for(0, (img.height + band - 1) / band, [&](int b) {
-    const int y0 = b * band, y1 = std::min(img.height, y0 + band);
+  std::vector<float> g(2 * row_floats * (end - first));
+  tbb::parallel_for(0, (end - first + band - 1) / band, [&](int b) {
+    const int y0 = first + b * band, y1 = std::min(end, y0 + band);
     const int top = std::max(0, y0 - halo), bottom = std::min(img.height, y1 + halo);
     Image part(img.width, bottom - top, img.channels);
     std::copy(img.pixels.begin() + static_cast<std::ptrdiff_t>(row_floats * top),
@@ -47,7 +49,7 @@ std::vector<float> gradients_of(const Image& img, SlopeLimiter limiter) {
     const std::vector<float> pg = grid_gradients(part, limiter);
     std::copy(pg.begin() + static_cast<std::ptrdiff_t>(2 * row_floats * (y0 - top)),
               pg.begin() + static_cast<std::ptrdiff_t>(2 * row_floats * (y1 - top)),
-              g.begin() + static_cast<std::ptrdiff_t>(2 * row_floats * y0));
+              g.begin() + static_cast<std::ptrdiff_t>(2 * row_floats * (y0 - first)));
   });
   return g;
 }
@@ -209,7 +211,7 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
   RenderStats rs;
   std::vector<float> gradients;
   const bool cubic = options.render == Render::cubic;
-  if (cubic) {
+  if (cubic && !wavefront) {  // the wavefront makes them a band of rows at a time
     if (whole) {
       gradients = gradients_of(src, options.slopes);
     } else {
@@ -278,7 +280,10 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
       std::vector<float>().swap(gradients);
       mesh = Mesh2();
     };
-    make_consistent_streamed(out_width, out_height, values, patch_gradients, mesh, src, co, &cs, &rs);
+    GradientRows gradient_rows;
+    if (cubic)
+      gradient_rows = [&](int first, int end) { return gradients_of(src, options.slopes, first, end); };
+    make_consistent_streamed(out_width, out_height, values, gradient_rows, mesh, src, co, &cs, &rs);
     local.seconds_render += cs.seconds_surface;
     log_render(cs.seconds_surface, " (a band at a time, with the consistent reconstruction)");
   } else {

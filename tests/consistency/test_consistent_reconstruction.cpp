@@ -344,7 +344,19 @@ TEST_CASE("make_consistent_streamed: the wavefront equals make_consistent on the
     int mesh_done = 0, rows_before_mesh_done = -1;
     co.mesh_done = [&] { ++mesh_done, rows_before_mesh_done = streamed_rows; };
     RenderStats surface_stats;
-    make_consistent_streamed(ow, oh, in.pixels, &gradients, mesh, in, co, &stream_stats, &surface_stats);
+    // The gradients of the rows asked for, each row once, in order.
+    const std::size_t row_gradients = static_cast<std::size_t>(in.width) * C * 2;
+    int gradients_made = 0, most_asked = 0;
+    bool gradients_in_order = true;
+    const GradientRows gradient_rows = [&](int first, int end) {
+      gradients_in_order = gradients_in_order && first == gradients_made && end > first && end <= in.height;
+      gradients_made = end, most_asked = std::max(most_asked, end - first);
+      return std::vector<float>(gradients.begin() + static_cast<std::ptrdiff_t>(row_gradients * first),
+                                gradients.begin() + static_cast<std::ptrdiff_t>(row_gradients * end));
+    };
+    make_consistent_streamed(ow, oh, in.pixels, gradient_rows, mesh, in, co, &stream_stats, &surface_stats);
+    CHECK(gradients_in_order);
+    CHECK(gradients_made == in.height);
     CHECK(expected_order);
     CHECK(streamed_order);
     CHECK(expected_rows == oh);
@@ -364,6 +376,9 @@ TEST_CASE("make_consistent_streamed: the wavefront equals make_consistent on the
     // (the mesh steps end at the last rows); else all of them after.
     if (streams) CHECK(rows_before_mesh_done > oh / 2);
     else CHECK(rows_before_mesh_done == 0);
+    // Streamed, the gradients too are made a band of rows at a time.
+    if (streams) CHECK(most_asked < in.height / 2);
+    else CHECK(most_asked == in.height);
     if (std::string(k.model) == "box" && k.in == &stripes && k.scale_den == 1) CHECK(whole_stats.step_edge_footprints > 0);
   }
 }

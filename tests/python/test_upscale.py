@@ -128,7 +128,7 @@ def test_options_match_the_command_line(cli):
     # ... and every option of the command line is a keyword (but those about files and the command itself).
     flags = set(re.findall(r"^\s+(?:-\w,)?--([a-z][a-z0-9-]*)", out, re.MULTILINE))
     # scale: positional; the files' options are upscale_file's (below)
-    not_keywords = {"help", "list-costs", "outdir", "suffix", "format", "overwrite", "jobs", "scale"}
+    not_keywords = {"help", "list-costs", "version", "outdir", "suffix", "format", "overwrite", "jobs", "scale"}
     file_flags = {"compression", "quality", "half", "float", "tile-size", "no-stream", "max-input-pixels"}
     not_keywords |= file_flags
     assert file_flags <= {k.replace("_", "-") for k in ddtscale.UPSCALE_FILE_OPTIONS}
@@ -302,3 +302,9 @@ def test_upscale_file_takes_the_command_lines_file_options(textured, tmp_path):
         with pytest.raises((ValueError, OSError), match=message):
             ddtscale.upscale_file(tmp_path / "in.ppm", tmp_path / "bad.png", 2, **options)
         assert not (tmp_path / "bad.png").exists()
+
+
+def test_version_is_the_command_line_s(cli):
+    out = subprocess.run([cli, "--version"], capture_output=True, text=True, check=True).stdout
+    assert re.fullmatch(r"\d+\.\d+\.\d+", ddtscale.__version__)
+    assert out.startswith("ddtscale " + ddtscale.__version__ + " (")

@@ -133,13 +133,21 @@ std::vector<std::array<double, 10>> make_rim_patches(const Scene& scene) {
   // function of t, the position along u->v: t = l0 in the first, l0 + l2
   // in the second. A Bézier triangle of a function of l0 (+ l2) has
   // control value d[i] (d[i + k]) at index ijk.
+  const VertexValues* window = scene.gradient_window;
   for (const index_t e : geometry.hull) {
     const index_t u = mesh.tri[e], v = mesh.tri[next_edge(e)];
     const Point2 &pu = mesh.points[u], &pv = mesh.points[v];
+    if (window && (std::min(u, v) < window->first || std::max(u, v) >= window->end)) {
+      // Beyond the window of gradients: not drawn by this call (scene_patch refuses it).
+      std::array<double, 10> unknown;
+      unknown.fill(std::numeric_limits<double>::quiet_NaN());
+      patches.insert(patches.end(), 2 * static_cast<std::size_t>(C), unknown);
+      continue;
+    }
     for (int pass = 0; pass < 2; ++pass)
       for (int c = 0; c < C; ++c) {
-        const float* gu = &(*scene.gradients)[(static_cast<std::size_t>(u) * C + c) * 2];
-        const float* gv = &(*scene.gradients)[(static_cast<std::size_t>(v) * C + c) * 2];
+        const float* gu = scene.gradient(u) + 2 * c;
+        const float* gv = scene.gradient(v) + 2 * c;
         const double dx = pv.x - pu.x, dy = pv.y - pu.y;
         const double zu = values[static_cast<std::size_t>(u) * C + c], zv = values[static_cast<std::size_t>(v) * C + c];
         const double d[4] = {zu, zu + (gu[0] * dx + gu[1] * dy) / 3, zv - (gv[0] * dx + gv[1] * dy) / 3, zv};
@@ -162,10 +170,14 @@ std::vector<std::array<double, 10>> make_rim_patches(const Scene& scene) {
 
 std::array<double, 10> scene_patch(const Scene& scene, index_t t, const index_t i[3], int c) {
   const int C = scene.C;
-  if (t >= scene.T) return scene.rim_patches[static_cast<std::size_t>(t - scene.T) * C + c];
+  if (t >= scene.T) {
+    const std::array<double, 10>& patch = scene.rim_patches[static_cast<std::size_t>(t - scene.T) * C + c];
+    if (scene.gradient_window && std::isnan(patch[0]))  // values are finite (the readers refuse others)
+      throw Error("render_mesh: a rim patch beyond the window of gradients");
+    return patch;
+  }
   const auto& P = scene.mesh.points;
-  const auto& G = *scene.gradients;
-  auto grad = [&](index_t v) { return &G[(static_cast<std::size_t>(v) * C + c) * 2]; };
+  auto grad = [&](index_t v) { return scene.gradient(v) + 2 * c; };
   double g0[2] = {grad(i[0])[0], grad(i[0])[1]}, g1[2] = {grad(i[1])[0], grad(i[1])[1]},
          g2[2] = {grad(i[2])[0], grad(i[2])[1]};
   return cubic_patch(P[i[0]], P[i[1]], P[i[2]], scene.values[static_cast<std::size_t>(i[0]) * C + c],

@@ -99,7 +99,8 @@ struct Scene {
   const std::vector<float>& values;
   int C;
   const VertexValues* window = nullptr;  // set: linear mode reads only these vertices' values
-  const std::vector<float>* gradients = nullptr;  // cubic mode
+  const std::vector<float>* gradients = nullptr;  // cubic mode: every vertex's
+  const VertexValues* gradient_window = nullptr;  // cubic mode: or those of a window of vertices
   bool add = false;  // linear mode: values added to the pixels' own (add_mesh_render_into)
   // Cubic mode: the Bézier control values of each rim triangle, C each.
   std::vector<std::array<double, 10>> rim_patches;
@@ -114,6 +115,13 @@ struct Scene {
     const index_t s = source(v);
     if (s < window->first || s >= window->end) throw Error("render_mesh: a vertex beyond the window of values");
     return window->data + static_cast<std::size_t>(s - window->first) * C;
+  }
+  // Cubic mode: vertex v's 2 C gradient components (x, y per channel).
+  const float* gradient(index_t v) const {
+    if (!gradient_window) return &(*gradients)[static_cast<std::size_t>(v) * C * 2];
+    if (v < gradient_window->first || v >= gradient_window->end)
+      throw Error("render_mesh: a vertex beyond the window of gradients");
+    return gradient_window->data + static_cast<std::size_t>(v - gradient_window->first) * C * 2;
   }
   bool exact(index_t v) const { return geometry.exact(v); }
   index_t tail(index_t e) const { return geometry.tail(e); }

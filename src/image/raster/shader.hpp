@@ -124,7 +124,7 @@ struct Shader {
     const float* Z[3] = {&scene.values[static_cast<std::size_t>(id[0]) * C], &scene.values[static_cast<std::size_t>(id[1]) * C],
                          &scene.values[static_cast<std::size_t>(id[2]) * C]};
     const float* G[3];
-    for (int i = 0; i < 3; ++i) G[i] = &(*scene.gradients)[static_cast<std::size_t>(id[i]) * C * 2];
+    for (int i = 0; i < 3; ++i) G[i] = scene.gradient(id[i]);
     const v2d three = {3.0, 3.0}, six = {6.0, 6.0}, half = {0.5, 0.5};
     // along(g, from, to) = (g.x (to.x - from.x) + g.y (to.y - from.y)) / 3
     const v2d d01x = v2d{P1.x - P0.x, P1.x - P0.x}, d01y = v2d{P1.y - P0.y, P1.y - P0.y};
