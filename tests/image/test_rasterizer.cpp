@@ -567,7 +567,7 @@ TEST_CASE("RenderPlan: refuses what it cannot draw") {
   CHECK_NOTHROW(render_mesh_into(out, 4, plan, values, 1, 3, 11));
 }
 
-TEST_CASE("add_mesh_render_into: a window of rows of values draws the whole values' bits, and a vertex beyond it is refused") {
+TEST_CASE("add_mesh_render_into and the cubic render_mesh_into: windows of rows of values or gradients draw the whole bits, and a vertex beyond them is refused") {
   // An optimized lattice (vertex y * W + x): long triangles, rows of
   // vertices a window of output rows reaches found from the mesh itself.
   const int W = 60, H = 40;
@@ -600,17 +600,28 @@ TEST_CASE("add_mesh_render_into: a window of rows of values draws the whole valu
       const int bottom = static_cast<int>(std::ceil((end - 0.5) / scale - 0.5)) + span + 2;
       return std::pair{std::clamp(top, 0, H), std::clamp(bottom, 0, H)};
     };
+    // The cubic surface from windows of gradients (2 C a vertex).
+    std::vector<float> gradients = random_values(m.points.size(), 2 * C, 23);
+    for (float& v : gradients) v -= 0.5f;
+    const Image cubic_whole = render_mesh(m, values, C, g, nullptr, true, 0.0f, &gradients);
+    Image cubic_windows(g.width, g.height, C);
     for (int first = 0; first < g.height;) {
       const int rows = plan.window_boundary(first + 7) - first;
       const auto [top, bottom] = vertex_rows(first, first + rows);
-      // Only the window's values, in a buffer of their own.
+      // Only the window's values (gradients), in a buffer of their own.
       const std::vector<float> held(values.begin() + static_cast<std::ptrdiff_t>(top) * W * C,
                                     values.begin() + static_cast<std::ptrdiff_t>(bottom) * W * C);
       add_mesh_render_into(windows, first, plan, VertexValues{held.data(), index_t(top) * W, index_t(bottom) * W}, C,
                            first, rows);
+      const std::vector<float> held_gradients(gradients.begin() + static_cast<std::ptrdiff_t>(top) * W * 2 * C,
+                                              gradients.begin() + static_cast<std::ptrdiff_t>(bottom) * W * 2 * C);
+      render_mesh_into(cubic_windows, first, plan, values, C, first, rows,
+                       VertexValues{held_gradients.data(), index_t(top) * W, index_t(bottom) * W});
       first += rows;
     }
     CHECK(std::memcmp(windows.pixels.data(), whole.pixels.data(), whole.pixels.size() * sizeof(float)) == 0);
+    CHECK(std::memcmp(cubic_windows.pixels.data(), cubic_whole.pixels.data(), cubic_whole.pixels.size() * sizeof(float)) ==
+          0);
     // A window in the middle without the row of vertices at or above its first samples.
     const int first = plan.window_boundary(g.height / 2);
     const int needed = static_cast<int>(std::floor((first + 0.5) / scale - 0.5));
@@ -622,6 +633,18 @@ TEST_CASE("add_mesh_render_into: a window of rows of values draws the whole valu
     CHECK_THROWS_AS(add_mesh_render_into(out, 0, plan,
                                          VertexValues{short_of_one.data(), index_t(needed + 1) * W, index_t(bottom) * W},
                                          C, first, 4),
+                    Error);
+    const std::vector<float> gradients_short_of_one(
+        gradients.begin() + static_cast<std::ptrdiff_t>(needed + 1) * W * 2 * C,
+        gradients.begin() + static_cast<std::ptrdiff_t>(bottom) * W * 2 * C);
+    CHECK_THROWS_AS(render_mesh_into(out, 0, plan, values, C, first, 4,
+                                     VertexValues{gradients_short_of_one.data(), index_t(needed + 1) * W,
+                                                  index_t(bottom) * W}),
+                    Error);
+    // The top rows' rim patches need the first rows' gradients.
+    CHECK_THROWS_AS(render_mesh_into(out, 0, plan, values, C, 0, 4,
+                                     VertexValues{gradients_short_of_one.data(), index_t(needed + 1) * W,
+                                                  index_t(bottom) * W}),
                     Error);
   }
   // A window of values draws only an added surface on a convex hull.
