@@ -372,8 +372,8 @@ void make_consistent_streamed(int out_width, int out_height, const std::vector<f
         if (rows.capacity == H) {  // kept whole: a mesh without triangles or with a hull not convex
           add_mesh_render_into(window, first - window_origin, *plan, rows.values, C, first, row_of[ready] - first);
         } else {
-          const VertexValues held{rows.values.data(), index_t(rows.origin) * W,
-                                  index_t(std::min(H, rows.origin + rows.capacity)) * W};
+          // The rows written: reading another is an error, not a stale value.
+          const VertexValues held{rows.values.data(), index_t(rows.origin) * W, index_t(residual_done[k]) * W};
           add_mesh_render_into(window, first - window_origin, *plan, held, C, first, row_of[ready] - first);
         }
         stepped[k + 1] = ready;
