@@ -169,8 +169,8 @@ Acquisition::Acquisition(const AcquisitionModel& model, int in_width, int in_hei
 }
 
 // The general loop's additions in its order, so the same bits; with the
-// channel count known and one weight a column (box and point-like models
-// at integer scales) the compiler unrolls it.
+// channel count known and one weight a column (the box model at integer
+// scales) the compiler unrolls it.
 template <int C>
 void Acquisition::add_columns(const float* p, double* row) const {
   for (int X = 0; X < out_width_; ++X, p += C) {
