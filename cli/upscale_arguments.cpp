@@ -152,7 +152,8 @@ UpscaleCommandLine parse_upscale_command_line(int argc, const char* const* argv)
       line.action = UpscaleCommandLine::Action::list_costs;
       return line;
     }
-    if (std::strcmp(argv[i], "--version") == 0 || std::strcmp(argv[i], "-V") == 0) {
+    // -V alone: elsewhere it may be an option's value (e.g. --suffix -V).
+    if (std::strcmp(argv[i], "--version") == 0 || (argc == 2 && std::strcmp(argv[i], "-V") == 0)) {
       line.action = UpscaleCommandLine::Action::version;
       return line;
     }
@@ -162,6 +163,10 @@ UpscaleCommandLine parse_upscale_command_line(int argc, const char* const* argv)
     args.scale_given = app.count("--scale") > 0;
     args.width_given = app.count("--width") > 0;
     args.height_given = app.count("--height") > 0;
+    if (version) {
+      line.action = UpscaleCommandLine::Action::version;
+      return line;
+    }
   } catch (const CLI::CallForHelp&) {
     line.action = UpscaleCommandLine::Action::help;
     line.text = app.help();

@@ -87,8 +87,11 @@ run_ok "scene" scene edge_30 "$work/scene.png" --size 40x30
 run_fail "scene unknown" scene nope "$work/scene.png"
 run_ok "list costs" --list-costs
 grep -qx "variance" "$work/out.txt" && ok || bad "--list-costs lacks variance"
-run_ok "version" --version
+run_ok "version" -V
 grep -Eq "^ddtscale [0-9]+[.][0-9]+[.][0-9]+ [(]OpenImageIO [0-9.]+, CGAL [0-9.]+, TBB [0-9.]+[)]$" "$work/out.txt" && ok || bad "--version: $(cat "$work/out.txt")"
+# -V elsewhere may be an option's value: here a suffix, not a request for the version.
+run_ok "suffix -V" "$work/in.png" --outdir "$work/vdir" --suffix -V --scale 2 --quiet
+[ -f "$work/vdir/in-V.png" ] && ok || bad "--suffix -V wrote no in-V.png"
 
 # Degenerate images.
 oiiotool --pattern constant:color=0.5 1x1 3 -o "$work/one.png"
