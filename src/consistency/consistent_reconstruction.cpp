@@ -317,11 +317,10 @@ void make_consistent_streamed(int out_width, int out_height, const std::vector<f
         const int bottom = slide ? std::min(H, input_row(cut - 1) + mesh_reach + 2) : H;
         if (bottom > gradients_made) {
           gradient_rows.make_room(bottom, std::min(top, gradients_made));
-          const int from = std::max(gradients_made, gradient_rows.origin);
-          const std::vector<float> made = gradients(from, bottom);
-          if (made.size() != gradient_rows.row_size * (bottom - from))
+          const std::vector<float> made = gradients(gradients_made, bottom);
+          if (made.size() != gradient_rows.row_size * (bottom - gradients_made))
             throw Error("the consistent reconstruction: gradients of another grid");
-          std::copy(made.begin(), made.end(), gradient_rows.row(from));
+          std::copy(made.begin(), made.end(), gradient_rows.row(gradients_made));
           gradients_made = bottom;
         }
         const VertexValues held{gradient_rows.values.data(), index_t(gradient_rows.origin) * W,
@@ -369,7 +368,7 @@ void make_consistent_streamed(int out_width, int out_height, const std::vector<f
       if (ready > stepped[k + 1]) {
         const int first = row_of[stepped[k + 1]];
         const SlidingRows<float>& rows = step_values[k];
-        if (rows.capacity == H) {  // kept whole: a mesh without triangles or with a hull not convex
+        if (!slide) {  // kept whole: a mesh without triangles or with a hull not convex
           add_mesh_render_into(window, first - window_origin, *plan, rows.values, C, first, row_of[ready] - first);
         } else {
           // The rows written: reading another is an error, not a stale value.

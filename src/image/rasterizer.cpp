@@ -180,20 +180,18 @@ void draw_planned(Image& out, int out_row, const RenderPlan::Prepared& plan, con
   if (gradients && (gradients->size() != values.size() * 2 || C > max_channels))
     throw Error("render_mesh: cubic mode needs #V x C x 2 gradients and at most 16 channels");
   if (C > max_channels) throw Error("render_mesh: at most 16 channels");
-  const bool cubic_mode = gradients || gradient_window;
+  const bool cubic = gradients || gradient_window;
+  auto malformed = [](const VertexValues& w) { return w.first < 0 || w.end < w.first || (w.end > w.first && !w.data); };
   if (gradient_window) {
     if (add || gradients || window)
       throw Error("render_mesh: a window of gradients draws only a cubic surface");
-    if (gradient_window->first < 0 || gradient_window->end < gradient_window->first ||
-        (gradient_window->end > gradient_window->first && !gradient_window->data))
-      throw Error("render_mesh: a window of gradients without its gradients");
+    if (malformed(*gradient_window)) throw Error("render_mesh: a window of gradients without its gradients");
   }
   if (window) {
     // Only the walk and the shapes read values by vertex; the other paths read them all.
     if (!add || gradients || geometry.T == 0 || !geometry.hull_convex)
       throw Error("render_mesh: a window of values draws only an added surface on a mesh with a convex hull");
-    if (window->first < 0 || window->end < window->first || (window->end > window->first && !window->data))
-      throw Error("render_mesh: a window of values without its values");
+    if (malformed(*window)) throw Error("render_mesh: a window of values without its values");
   } else if (values.size() < static_cast<std::size_t>(geometry.V) * C) {
     throw Error("render_mesh: fewer values than vertices");
   }
@@ -228,13 +226,13 @@ void draw_planned(Image& out, int out_row, const RenderPlan::Prepared& plan, con
   scene.gradients = gradients;
   scene.gradient_window = gradient_window;
   scene.add = add;
-  if (cubic_mode && fill_outside) scene.rim_patches = make_rim_patches(scene);
+  if (cubic && fill_outside) scene.rim_patches = make_rim_patches(scene);
   local.triangles = scene.T;
   local.rim_triangles = static_cast<long long>(geometry.rim_tris.size() / 3);
   const Point2 phase = plan.phase;
   const double output_per_input = grid.scale_x * grid.scale_y;  // pixels per input unit area
   const bool by_shape =
-      plan.shapes_possible && output_per_input <= (cubic_mode ? shape_max_scale2_cubic : shape_max_scale2_linear);
+      plan.shapes_possible && output_per_input <= (cubic ? shape_max_scale2_cubic : shape_max_scale2_linear);
   // Rows of groups: row r starts a group when r == row0 or a vertex lies in
   // (r - 1, r] (the plan's group_starts); within a group the same triangles
   // cross every row.
@@ -299,7 +297,7 @@ void draw_planned(Image& out, int out_row, const RenderPlan::Prepared& plan, con
   if (by_shape)
     for (std::size_t k = 0; k < plan.chunk_rows.size(); ++k)
       if (!(plan.chunk_rows[k].second < row0 || plan.chunk_rows[k].first >= row1)) chunks.push_back(static_cast<index_t>(k));
-  ShapeTable* shapes = by_shape ? &plan.shape_table(C, cubic_mode) : nullptr;
+  ShapeTable* shapes = by_shape ? &plan.shape_table(C, cubic) : nullptr;
   if (progress) progress->begin("render", groups + static_cast<long long>(chunks.size()));
   std::atomic<long long> drawn{0}, power_pieces{0}, bernstein_pieces{0}, shaped{0};
   auto draw_groups = [&](auto channels, auto cubic) {
@@ -343,7 +341,6 @@ void draw_planned(Image& out, int out_row, const RenderPlan::Prepared& plan, con
       if (progress) progress->add(range.size());
     });
   };
-  const bool cubic = cubic_mode;
   switch (C) {
     case 1: cubic ? draw_groups(channels<1>{}, std::true_type{}) : draw_groups(channels<1>{}, std::false_type{}); break;
     case 3: cubic ? draw_groups(channels<3>{}, std::true_type{}) : draw_groups(channels<3>{}, std::false_type{}); break;

@@ -275,11 +275,9 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
   ConsistencyStats cs;
   if (wavefront) {
     co.progress = stages.progress();
-    // The mesh and the gradients are freed once the last mesh step is drawn.
-    co.mesh_done = [&] {
-      std::vector<float>().swap(gradients);
-      mesh = Mesh2();
-    };
+    // The mesh is freed once the last mesh step is drawn (the wavefront
+    // frees its own rows of gradients).
+    co.mesh_done = [&] { mesh = Mesh2(); };
     GradientRows gradient_rows;
     if (cubic)
       gradient_rows = [&](int first, int end) { return gradients_of(src, options.slopes, first, end); };
