@@ -13,6 +13,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <mutex>
 
 namespace ddt {
@@ -183,7 +184,11 @@ struct ReferenceEvaluator {
   Geometry geometry;
   double tolerance;
 
-  struct Scratch {};
+  static constexpr bool caches_terms = false;
+  struct Scratch {
+    Scratch(index_t, index_t) {}
+  };
+  double fill(Scratch&, index_t, index_t) const { return 0; }
   bool decide(index_t e, double& gain, long long&, Scratch&) const {
     if (!geometry.flippable(e)) return false;
     return accept(flip_costs(mesh, values, K, cost, e), tolerance, gain);
@@ -212,15 +217,43 @@ bool open_quad(const Geometry& geometry, const float* z, int K, index_t e, index
   return false;
 }
 
+// Doubles for half-edges [first, end), each page allocated (filled with
+// `unknown`) when first reached, so that a region that reads few of its
+// half-edges holds few pages.
+class TermPages {
+ public:
+  static constexpr double unknown = -1;  // terms are >= 0
+  TermPages(index_t first, index_t end)
+      : first_(first), pages_(static_cast<std::size_t>((end - first + page_size - 1) / page_size)) {}
+  double& at(index_t h) {
+    const index_t i = h - first_;
+    std::unique_ptr<double[]>& page = pages_[static_cast<std::size_t>(i / page_size)];
+    if (!page) {
+      page = std::make_unique<double[]>(page_size);
+      std::fill_n(page.get(), page_size, unknown);
+    }
+    return page[static_cast<std::size_t>(i % page_size)];
+  }
+
+ private:
+  static constexpr index_t page_size = 4096;
+  index_t first_;
+  std::vector<std::unique_ptr<double[]>> pages_;
+};
+
 // sederberg and sederberg-edge: triangle_field, edge_cost and
 // sederberg_cost inlined for KT channels (0: K at run time), with the same
 // operations in the same order, hence the same values.
 //
-// Edge costs are cached: cost[h] holds the term of the edge of half-edge h
-// (both twins; 0 on the hull). A term depends only on the two triangles
-// (fields are computed from the smallest vertex, and the Sederberg cost is
-// symmetric bit for bit), so the cached value is what flip_costs would
-// compute; a flip rewrites the five terms it changes. A test then needs the
+// Edge costs are cached: a region's Scratch holds the term of the edge of
+// each of its half-edges read so far (both twins; 0 on the hull), computed
+// when first read. A term depends only on the two triangles (fields are
+// computed from the smallest vertex, and the Sederberg cost is symmetric
+// bit for bit), so the cached value is what flip_costs would compute, and
+// a region's cache starts empty without changing a decision; a flip
+// rewrites the five terms it changes. The cache lives while its region
+// runs: the memory is that of the regions running at once, not a double a
+// half-edge of the whole mesh. A test then needs the
 // two new triangles' fields and the new terms, summed one by one: it stops
 // as soon as the partial sum rules the flip out (the terms are >= 0, a
 // rounded sum of them never decreases, and the acceptance rule only gets
@@ -235,7 +268,6 @@ struct SederbergEvaluator {
   bool weighted;  // facet_weighted_content (else facet_sum)
   Geometry geometry;
   double tolerance;
-  std::vector<double>* cost = nullptr;  // per half-edge, see above
 
   static constexpr int capacity = KT > 0 ? KT : max_cost_channels;
   struct Field {
@@ -244,8 +276,11 @@ struct SederbergEvaluator {
     double g[capacity][2];
     double norm2[capacity];  // g . g, summed as sederberg_cost does
   };
-  // The five new terms of the last accepted test, in the order of `after`.
+  // A region's cached terms, and the five new terms of the last accepted
+  // test, in the order of `after`.
   struct Scratch {
+    Scratch(index_t first_half_edge, index_t end_half_edge) : cache(first_half_edge, end_half_edge) {}
+    TermPages cache;
     double terms[5];
   };
   int channels() const { return KT > 0 ? KT : K; }
@@ -295,13 +330,48 @@ struct SederbergEvaluator {
     field(mesh.tri[t], mesh.tri[t + 1], mesh.tri[t + 2], ft);
     return edge(fs, ft);
   }
+  static constexpr bool caches_terms = true;
+  // Fills a region's cache with the terms of its half-edges [first, end)
+  // (and of their twins in it), as the first phase starts; returns the sum
+  // of the terms of the edges whose smaller half-edge is the region's, in
+  // half-edge order, so that the regions' sums make the total.
+  double fill(Scratch& scratch, index_t first, index_t end) const {
+    TermPages& C = scratch.cache;
+    double sum = 0;
+    for (index_t h = first; h < end; ++h) {
+      const index_t o = mesh.opp[h];
+      if (o == no_edge) {
+        C.at(h) = 0;
+        continue;
+      }
+      const bool twin_inside = o >= first && o < end;
+      if (twin_inside && o < h) continue;  // stored with its twin
+      const double c = edge_term(h);
+      C.at(h) = c;
+      if (twin_inside) C.at(o) = c;
+      if (h < o) sum += c;
+    }
+    return sum;
+  }
+  // The cached term of half-edge h, computed on its first read. Its twin's
+  // triangle is the region's (the schedule defers tests that reach beyond).
+  double cached_term(index_t h, TermPages& cache) const {
+    double& slot = cache.at(h);
+    if (slot < 0) {
+      const index_t o = mesh.opp[h];
+      slot = o == no_edge ? 0.0 : edge_term(h);
+      if (o != no_edge) cache.at(o) = slot;
+    }
+    return slot;
+  }
   bool decide(index_t e, double& gain, long long& flat, Scratch& scratch) const {
     index_t q[4];
     if (!open_quad<KT>(geometry, z, K, e, q, flat)) return false;
     const index_t f = mesh.opp[e], a = q[0], b = q[1], c = q[2], d = q[3];
-    const std::vector<double>& C = *cost;
+    TermPages& C = scratch.cache;
     // edge(t0, t1) + edge(t0, n_bc) + edge(t0, n_ca) + edge(t1, n_ad) + edge(t1, n_db)
-    const double before = C[e] + C[next_edge(e)] + C[prev_edge(e)] + C[next_edge(f)] + C[prev_edge(f)];
+    double before = cached_term(e, C);
+    for (index_t h : {next_edge(e), prev_edge(e), next_edge(f), prev_edge(f)}) before += cached_term(h, C);
     Field t0n, t1n, n[4];
     field(d, c, a, t0n);
     field(c, d, b, t1n);
@@ -336,13 +406,13 @@ struct SederbergEvaluator {
   // After flip_edge(mesh, e): stores the new terms. The slots of the flip
   // diagram now hold e = d->c, next(e) = c->a, prev(e) = a->d,
   // next(f) = d->b, prev(f) = b->c.
-  void commit(index_t e, index_t f, const Scratch& scratch) const {
-    std::vector<double>& C = *cost;
+  void commit(index_t e, index_t f, Scratch& scratch) const {
+    TermPages& C = scratch.cache;
     const index_t slots[5] = {e, prev_edge(f), next_edge(e), prev_edge(e), next_edge(f)};  // cd, bc, ca, ad, db
     for (int i = 0; i < 5; ++i) {
       const index_t h = slots[i];
-      C[h] = scratch.terms[i];
-      if (mesh.opp[h] != no_edge) C[mesh.opp[h]] = scratch.terms[i];
+      C.at(h) = scratch.terms[i];
+      if (mesh.opp[h] != no_edge) C.at(mesh.opp[h]) = scratch.terms[i];
     }
   }
 };
@@ -375,7 +445,11 @@ struct VarianceEvaluator {
     }
     return area * w;
   }
-  struct Scratch {};
+  static constexpr bool caches_terms = false;
+  struct Scratch {
+    Scratch(index_t, index_t) {}
+  };
+  double fill(Scratch&, index_t, index_t) const { return 0; }
   void commit(index_t, index_t, const Scratch&) const {}
   bool decide(index_t e, double& gain, long long& flat, Scratch&) const {
     index_t q[4];
@@ -404,6 +478,7 @@ struct Region {
 };
 
 struct RegionResult {
+  double initial_cost = 0;         // Evaluator::fill's sum (the first phase)
   int iterations = 0;
   long long flips = 0, tests = 0, flat = 0;
   double gains = 0;                // sum of the gains of its flips, in order
@@ -432,7 +507,8 @@ struct Run {
 
 // Lawson's loop inside one region. The first iteration scans the region's
 // half-edges flagged queued_initially (the reference's initial active list,
-// in the same order) when `scan`, else works through `active`. Edges whose
+// in the same order) when `scan` (the first phase: the evaluator's cache is
+// filled then), else works through `active`. Edges whose
 // test or whose queueing would touch a triangle outside the region go to
 // result.deferred. on_iteration(iteration, flips, gains so far), if given.
 template <class Evaluator, class OnIteration>
@@ -441,7 +517,8 @@ void run_region(Run& run, const Evaluator& evaluator, const Region& region, bool
   Mesh2& mesh = run.mesh;
   std::vector<std::uint8_t>& flags = run.flags;
   std::vector<index_t> candidate;
-  typename Evaluator::Scratch scratch;
+  typename Evaluator::Scratch scratch(3 * region.first, 3 * region.last);
+  if (scan) result.initial_cost = evaluator.fill(scratch, 3 * region.first, 3 * region.last);
   long long unreported = 0;
   auto enqueue = [&](index_t h) {
     const index_t o = mesh.opp[h];
@@ -539,14 +616,25 @@ void optimize_with(Run& run, const Evaluator& evaluator, LawsonStats& stats) {
   const long long size = forced ? options.region_triangles
                          : options.region_triangles == 0 ? default_region_triangles
                                                          : 0;
+  // The total before: total_cost's, or the sum of the first phase's fills.
+  auto cost_before = [&](const std::vector<RegionResult>& results) {
+    if (!Evaluator::caches_terms) return stats.cost_before;
+    double sum = 0;
+    for (const RegionResult& result : results) sum += result.initial_cost;
+    return sum;
+  };
   double cost_now = stats.cost_before;
 
   if (size <= 0 || (!forced && T <= 2 * size)) {  // one region: the reference procedure, iteration by iteration
-    RegionResult result;
+    std::vector<RegionResult> results(1);
+    RegionResult& result = results[0];
     run_region(run, evaluator, Region{0, T}, true, {}, result,
                [&](int iteration, long long flips, double gains) {
+                 stats.cost_before = cost_before(results);
                  if (options.on_iteration) options.on_iteration(iteration, flips, stats.cost_before - gains);
                });
+    stats.cost_before = cost_before(results);
+    stats.cost_after = stats.cost_before - result.gains;
     stats.iterations = result.iterations;
     stats.flips = result.flips;
     stats.tests = result.tests;
@@ -571,6 +659,7 @@ void optimize_with(Run& run, const Evaluator& evaluator, LawsonStats& stats) {
     tbb::parallel_for(std::size_t(0), regions.size(), [&](std::size_t r) {
       run_region(run, evaluator, regions[r], phase == 0, std::move(buckets[r]), results[r], no_report);
     });
+    if (phase == 0) cost_now = stats.cost_before = cost_before(results);
     long long flips_now = 0;
     for (RegionResult& result : results) {
       flips_now += result.flips;
@@ -590,6 +679,7 @@ void optimize_with(Run& run, const Evaluator& evaluator, LawsonStats& stats) {
     return flips_now;
   };
   core::run_region_phases(options.max_iterations, run_phase, [&] { return !list.empty(); });
+  stats.cost_after = cost_now;
 }
 
 }  // namespace
@@ -676,21 +766,9 @@ LawsonStats optimize_lawson(Mesh2& mesh, const std::vector<float>& values, int K
   const bool weighted = cost.form == CostForm::facet_weighted_content;
 
   if (fast && is_sederberg(cost)) {
-    // The edge-term cache; its sums are total_cost's, term for term.
-    std::vector<double> terms(mesh.half_edge_count(), 0.0);
-    auto go = [&](auto evaluator) {
-      evaluator.cost = &terms;
-      stats.cost_before = chunked_sum(mesh.half_edge_count(), [&](index_t e) {
-        if (mesh.opp[e] == no_edge || mesh.opp[e] < e) return 0.0;
-        const double c = evaluator.edge_term(e);
-        terms[e] = terms[mesh.opp[e]] = c;  // the twin's chunk never writes it
-        return c;
-      });
-      optimize_with(run, evaluator, stats);
-      stats.cost_after = chunked_sum(mesh.half_edge_count(), [&](index_t e) {
-        return mesh.opp[e] == no_edge || mesh.opp[e] < e ? 0.0 : terms[e];
-      });
-    };
+    // The totals: summed by the first phase's regions as they fill their
+    // caches, then tracked from the gains (optimize_with).
+    auto go = [&](const auto& evaluator) { optimize_with(run, evaluator, stats); };
     switch (K) {
       case 1: go(SederbergEvaluator<1>{mesh, z, K, weighted, geometry, tol}); break;
       case 3: go(SederbergEvaluator<3>{mesh, z, K, weighted, geometry, tol}); break;

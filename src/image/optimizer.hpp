@@ -86,6 +86,10 @@ struct LawsonStats {
   long long tests = 0;
   long long skipped_flat = 0;  // tests decided by the flat shortcut
   int regions = 1;             // regions of phase 0
+  // The total cost before and after. The Sederberg fast path sums the terms
+  // before as its regions first read them, and tracks the total after from
+  // the flips' gains in the schedule's fixed order (so both may differ from
+  // total_cost in the last bits); the other paths call total_cost.
   double cost_before = 0;
   double cost_after = 0;
 };

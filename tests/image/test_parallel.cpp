@@ -91,6 +91,7 @@ TEST_CASE("optimize_lawson: the fast evaluators decide exactly as flip_costs") {
         const std::vector<float> values = image_values(w, h, K, 5);
         Mesh2 fast = delaunay_triangulation(test::grid_points(w, h));
         Mesh2 reference = fast;
+        const double total_before = total_cost(fast, values, K, find_cost(name));
         LawsonOptions opt;
         opt.region_triangles = regions;
         const LawsonStats a = optimize_lawson(fast, values, K, find_cost(name), opt);
@@ -103,6 +104,10 @@ TEST_CASE("optimize_lawson: the fast evaluators decide exactly as flip_costs") {
         CHECK(fast.tri == reference.tri);
         CHECK(fast.opp == reference.opp);
         CHECK(a.cost_after == doctest::Approx(b.cost_after).epsilon(1e-12));
+        // The fast Sederberg path sums the total before from its regions'
+        // caches and tracks the total after from the gains.
+        CHECK(a.cost_before == doctest::Approx(total_before).epsilon(1e-12));
+        CHECK(a.cost_after == doctest::Approx(total_cost(fast, values, K, find_cost(name))).epsilon(1e-12));
         CHECK(b.skipped_flat == 0);
         CHECK(a.skipped_flat > 0);  // the flat patches
       }
