@@ -104,6 +104,11 @@ UpscaleCommandLine parse_upscale_command_line(int argc, const char* const* argv)
                  "where the format allows (same output, less memory; default: only when the job would not fit "
                  "in memory; -1: never)")
       ->check(whole_number(-1, std::numeric_limits<int>::max()));
+  app.add_option("--mesh-band-rows", args.mesh_band_rows,
+                 "box model at whole scales, streamed: build the mesh in bands of this many input rows, each "
+                 "made as the reconstruction reaches it and freed once it has passed (same output, less memory, "
+                 "the bands' margins redone; default: on images tall enough to gain; -1: one mesh)")
+      ->check(whole_number(-1, std::numeric_limits<int>::max()));
   app.add_option("--max-memory", args.max_memory,
                  "memory target of the job (e.g. 2G, 512M): a larger job is read, enlarged and written by "
                  "bands of rows sized by a memory model to fit (the same output, slower: the bands' margins are "
@@ -214,6 +219,7 @@ ddt::UpscaleOptions upscale_options(const UpscaleArguments& args) {
   options.optimizer = ddt::optimizer_by_name(args.optimizer);
   options.anneal = args.anneal;
   options.tile_rows = args.tile_rows;
+  options.mesh_band_rows = args.mesh_band_rows;
   options.max_memory = args.max_memory.empty() ? 0 : ddt::parse_memory_size(args.max_memory);
   return options;
 }

@@ -49,6 +49,7 @@ struct UpscaleArguments {
   bool quiet = false;
   int threads = 0;    // 0: all cores
   int tile_rows = upscale_defaults.tile_rows;  // 0: automatic, < 0: never
+  int mesh_band_rows = upscale_defaults.mesh_band_rows;  // 0: automatic, < 0: one mesh
   std::string max_memory;  // --max-memory SIZE (e.g. 2G); empty: automatic
   std::string optimizer = ddt::to_string(upscale_defaults.optimizer);
   ddt::AnnealOptions anneal = upscale_defaults.anneal;  // --seed and the --anneal-* schedule

@@ -120,6 +120,7 @@ py::dict image_defaults() {
   d["quiet"] = c.quiet;
   d["threads"] = c.threads;
   d["tile_rows"] = c.options.tile_rows;
+  d["mesh_band_rows"] = c.options.mesh_band_rows;
   d["max_memory"] = py::none();  // bytes (int) or a size ("2G"); None: automatic
   // The library's, beyond the command line: an array has no alpha flag.
   d["alpha_channel"] = c.options.alpha_channel;
@@ -163,6 +164,7 @@ ImageCall image_call(const py::dict& kwargs) {
   k.get("threads", c.threads);
   check_threads(c.threads);
   k.get("tile_rows", o.tile_rows);
+  k.get("mesh_band_rows", o.mesh_band_rows);
   if (kwargs.contains("max_memory") && !kwargs["max_memory"].is_none()) {
     const py::handle size = kwargs["max_memory"];
     if (py::isinstance<py::str>(size)) {

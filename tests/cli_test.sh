@@ -200,6 +200,13 @@ for model in box point; do
   run_ok "whole $model" "$work/tall.png" "$work/w.png" --scale 2 --model "$model" --tile-rows -1
   cmp -s "$work/b.png" "$work/w.png" && ok || bad "read by bands ($model) differs from the whole image's enlargement"
 done
+# Meshes made by bands (pipeline/banded_meshes.hpp): the box model's
+# wavefront drawing from them writes the bytes of one mesh.
+run_ok "mesh bands" "$work/tall.png" "$work/mb.png" --scale 2 --mesh-band-rows 700 --tile-rows -1 --verbose
+grep -q "mesh bands: 3 of 700 rows" "$work/err.txt" && ok || bad "mesh bands: not made by bands ($(grep mesh "$work/err.txt" | head -3))"
+run_ok "one mesh" "$work/tall.png" "$work/om.png" --scale 2 --mesh-band-rows -1 --tile-rows -1
+cmp -s "$work/mb.png" "$work/om.png" && ok || bad "meshes made by bands differ from one mesh"
+run_fail "mesh band rows" "$work/tall.png" "$work/mb2.png" --scale 2 --mesh-band-rows -2
 # --max-memory: below the smallest band a job is refused in one line with
 # the size to give, and nothing is written; at that size it is read by
 # bands (the same bytes as whole). The size is read from the refusal, as

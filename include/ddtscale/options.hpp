@@ -127,6 +127,15 @@ struct UpscaleOptions {
   // consistent model the margins also cover the reconstruction's reach
   // (consistent_reconstruction.hpp).
   int tile_rows = 0;
+  // The whole image's consistent reconstruction, streamed (box model at
+  // integer scales, output_rows set), draws from meshes of bands of
+  // mesh_band_rows input rows, each triangulated and optimized with
+  // margins when its wavefront reaches them and freed once it has passed:
+  // the same output bit for bit, with two bands' meshes held instead of
+  // the image's. 0: automatic (images tall enough that two bands and their
+  // margins are under three quarters of the rows), < 0: one mesh. Only
+  // under the region schedule, as tile_rows.
+  int mesh_band_rows = 0;
   // A memory target for the job, in bytes (the process's resident pages
   // included): tiles, and for files the bands read and written
   // (upscale_file), are sized by a memory model to stay under it (not a

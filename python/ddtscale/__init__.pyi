@@ -45,6 +45,7 @@ def upscale(
     quiet: bool = ...,
     threads: int = ...,
     tile_rows: int = ...,
+    mesh_band_rows: int = ...,
     max_memory: Union[int, str, None] = ...,
     alpha_channel: int = ...,
     region_rows: int = ...,

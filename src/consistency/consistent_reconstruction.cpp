@@ -204,12 +204,16 @@ struct SlidingRows {
   int capacity, origin = 0;
 
   T* row(int y) { return values.data() + row_size * (y - origin); }
-  // Rows up to `end` made room for, keeping rows from `keep` on.
+  // Rows up to `end` made room for, keeping rows from `keep` on; more
+  // rows held when the wavefront's reach has grown.
   void make_room(int end, int keep) {
     if (end - origin <= capacity) return;
     std::copy(values.begin() + static_cast<std::ptrdiff_t>(row_size * (keep - origin)), values.end(), values.begin());
     origin = keep;
-    if (end - origin > capacity) throw Error("the consistent reconstruction: a wavefront overran");
+    if (end - origin > capacity) {
+      capacity = end - origin;
+      values.resize(row_size * capacity);
+    }
   }
   std::vector<T> rows(int first, int end) const {
     return {values.begin() + static_cast<std::ptrdiff_t>(row_size * (first - origin)),
@@ -219,6 +223,39 @@ struct SlidingRows {
 
 }  // namespace
 
+// The whole image's one mesh.
+class OneMesh final : public WavefrontMeshes {
+ public:
+  OneMesh(const Mesh2& mesh, const std::vector<float>& values, int C, const RenderGrid& grid)
+      : values_(values), C_(C), height_(grid.height), plan_(std::in_place, mesh, grid),
+        reach_(ddt::triangle_rows(mesh)), vertices_(static_cast<index_t>(mesh.points.size())) {}
+  int prepare(int) override { return height_; }
+  int triangle_rows() const override { return reach_; }
+  bool slides() const override { return plan_->adds_windows_of_values(); }
+  int window_boundary(int row) const override { return plan_->window_boundary(row); }
+  void draw(Image& into, int at, int first, int end, const VertexValues* gradients, RenderStats* stats) override {
+    if (gradients) render_mesh_into(into, at, *plan_, values_, C_, first, end - first, *gradients, stats);
+    else render_mesh_into(into, at, *plan_, values_, C_, first, end - first, stats);
+  }
+  void add(Image& into, int at, int first, int end, const VertexValues& values) override {
+    if (slides()) return add_mesh_render_into(into, at, *plan_, values, C_, first, end - first);
+    // A mesh without triangles or with a hull not convex reads every value.
+    if (values.first != 0 || values.end < vertices_) throw Error("the consistent reconstruction: values missing");
+    const std::vector<float> all(values.data, values.data + static_cast<std::size_t>(vertices_) * C_);
+    add_mesh_render_into(into, at, *plan_, all, C_, first, end - first);
+  }
+  void release(int row) override {
+    if (row >= height_) plan_.reset();
+  }
+
+ private:
+  const std::vector<float>& values_;
+  int C_, height_;
+  std::optional<RenderPlan> plan_;
+  int reach_;
+  index_t vertices_;
+};
+
 void make_consistent_streamed(int out_width, int out_height, const std::vector<float>& values,
                               const GradientRows& gradients, const Mesh2& mesh, const Image& src,
                               const ConsistencyOptions& options, ConsistencyStats* stats, RenderStats* render_stats) {
@@ -227,18 +264,35 @@ void make_consistent_streamed(int out_width, int out_height, const std::vector<f
     throw Error("the consistent reconstruction: a streamed surface is the whole image's");
   const int W = src.width, H = src.height, C = src.channels;
   const RenderGrid surface_grid = output_grid(W, H, out_width, out_height);
-  double surface_seconds = 0;
   if (!make_consistent_streams(options.model, W, H, out_width, out_height)) {
     const auto t = std::chrono::steady_clock::now();
     Image out(out_width, out_height, C);
     const std::vector<float> all = gradients ? gradients(0, H) : std::vector<float>();
     render_mesh_into(out, 0, mesh, values, C, surface_grid, render_stats, true, gradients ? &all : nullptr);
-    surface_seconds = seconds_since(t);
+    const double surface_seconds = seconds_since(t);
     make_consistent(out, mesh, src, options, stats);
     if (stats) stats->seconds_surface = surface_seconds;
     return;
   }
   check_problem(mesh, src);
+  const auto t = std::chrono::steady_clock::now();
+  OneMesh one(mesh, values, C, surface_grid);
+  const double plan_seconds = seconds_since(t);
+  make_consistent_streamed(out_width, out_height, one, gradients, src, options, stats, render_stats);
+  if (stats) stats->seconds_operator += plan_seconds;
+}
+
+void make_consistent_streamed(int out_width, int out_height, WavefrontMeshes& meshes, const GradientRows& gradients,
+                              const Image& src, const ConsistencyOptions& options, ConsistencyStats* stats,
+                              RenderStats* render_stats) {
+  if (!options.output_rows) throw Error("the consistent reconstruction: nowhere to hand the rows");
+  if (options.band.image_height > 0 || options.band.out_height > 0)
+    throw Error("the consistent reconstruction: a streamed surface is the whole image's");
+  const int W = src.width, H = src.height, C = src.channels;
+  if (!make_consistent_streams(options.model, W, H, out_width, out_height))
+    throw Error("the consistent reconstruction: this model and scale do not stream");
+  if (C > max_channels) throw Error("the consistent reconstruction takes at most 16 channels");
+  double surface_seconds = 0;
   InputStatistics own;
   const InputStatistics& statistics = statistics_of(options, src, own);
   ConsistencyStats local;
@@ -247,8 +301,6 @@ void make_consistent_streamed(int out_width, int out_height, const std::vector<f
   const GridSurface grid(W, H, out_width, out_height, options.model);
   const FootprintPixels footprints = footprint_pixels(W, H, out_width, out_height);
   const std::vector<int>& row_of = footprints.first_y;  // output rows of input row j: [row_of[j], row_of[j + 1])
-  // The surface's and the mesh steps' render; where windows keep its bits.
-  std::optional<RenderPlan> plan(std::in_place, mesh, surface_grid);
   local.seconds_operator = seconds_since(t0);
 
   // Input rows [0, drawn) have their output rows drawn, [0, residual[k]) the
@@ -260,9 +312,16 @@ void make_consistent_streamed(int out_width, int out_height, const std::vector<f
   // the residual before it (the vertices of the triangles crossing a row),
   // the grid solve within its reach, the grid correction a row (its
   // bilinear surface), the measure two.
-  const int K = options.mesh_steps, mesh_reach = triangle_rows(mesh) + 2, solve_reach = grid.reach();
-  const int lag = K * mesh_reach + solve_reach + 2;
-  const int step = std::max(32, lag);  // input rows drawn at a time
+  // The reach of a mesh step grows with the triangles of the meshes made.
+  const int K = options.mesh_steps, solve_reach = grid.reach();
+  int mesh_reach = 0, lag = 0, step = 0;
+  auto update_reach = [&] {
+    mesh_reach = meshes.triangle_rows() + 2;
+    lag = K * mesh_reach + solve_reach + 2;
+    step = std::max(32, lag);  // input rows drawn at a time
+  };
+  meshes.prepare(0);
+  update_reach();
   int drawn = 0, solved = 0, finished = 0, checked = 0;
   std::vector<int> residual_done(K + 1, 0), stepped(K + 1, 0);
   const std::size_t row_size = static_cast<std::size_t>(W) * C;
@@ -272,7 +331,7 @@ void make_consistent_streamed(int out_width, int out_height, const std::vector<f
   // written; the last residual and the grid correction, by rows.
   // A lattice's mesh is drawn from windows of rows of values; other meshes
   // (no triangles, a hull not convex) from all of them.
-  const bool slide = plan->adds_windows_of_values();
+  const bool slide = meshes.slides();
   const int step_rows = slide ? std::min(H, 2 * step + 4 * mesh_reach + 16) : H;
   std::vector<SlidingRows<float>> step_values(K, SlidingRows<float>(row_size, step_rows));
   const int sliding_rows = std::min(H, lag + solve_reach + step + 8);
@@ -288,10 +347,10 @@ void make_consistent_streamed(int out_width, int out_height, const std::vector<f
   std::vector<double> acquired, solved_rows, acquired_delta;
   // Output rows [window_origin, window_origin + window.height) of which
   // [row_of[finished], drawn_rows) are in use; finished rows make room.
-  const int window_rows = std::min(out_height, row_of[std::min(H, lag + step + 4)] + 1);
-  Image window(out_width, window_rows, C);
-  local.held_rows = window_rows;
+  Image window(out_width, std::min(out_height, row_of[std::min(H, lag + step + 4)] + 1), C);
+  local.held_rows = window.height;
   int window_origin = 0, drawn_rows = 0;
+  bool meshes_done = false;
   const int band_out_rows = std::max(1, options.output_band_rows);
   if (options.progress) options.progress->begin("consistency", H);
 
@@ -301,14 +360,23 @@ void make_consistent_streamed(int out_width, int out_height, const std::vector<f
     // The surface's next rows, cut where its render keeps the whole
     // image's bits; then the input rows whose footprints are all drawn.
     if (drawn < H) {
-      const int cut = std::max(drawn_rows + 1, plan->window_boundary(row_of[std::min(H, drawn + step)]));
+      const int ready_end = meshes.prepare(drawn_rows);
+      update_reach();
+      const int wanted = std::min(ready_end, row_of[std::min(H, drawn + step)]);
+      const int cut = std::max(drawn_rows + 1, std::min(ready_end, meshes.window_boundary(wanted)));
       if (cut - window_origin > window.height) {
         const int keep = row_of[finished];
         const std::ptrdiff_t row_floats = static_cast<std::ptrdiff_t>(out_width) * C;
         std::copy(window.pixels.begin() + row_floats * (keep - window_origin),
                   window.pixels.begin() + row_floats * (drawn_rows - window_origin), window.pixels.begin());
         window_origin = keep;
-        if (cut - window_origin > window.height) throw Error("the consistent reconstruction: a wavefront overran");
+        if (cut - window_origin > window.height) {  // the reach has grown
+          Image wider(out_width, cut - window_origin, C);
+          std::copy(window.pixels.begin(), window.pixels.begin() + row_floats * (drawn_rows - window_origin),
+                    wider.pixels.begin());
+          window = std::move(wider);
+          local.held_rows = std::max(local.held_rows, window.height);
+        }
       }
       RenderStats rows_stats;
       if (gradients) {
@@ -325,11 +393,9 @@ void make_consistent_streamed(int out_width, int out_height, const std::vector<f
         }
         const VertexValues held{gradient_rows.values.data(), index_t(gradient_rows.origin) * W,
                                 index_t(gradients_made) * W};
-        render_mesh_into(window, drawn_rows - window_origin, *plan, values, C, drawn_rows, cut - drawn_rows, held,
-                         &rows_stats);
+        meshes.draw(window, drawn_rows - window_origin, drawn_rows, cut, &held, &rows_stats);
       } else {
-        render_mesh_into(window, drawn_rows - window_origin, *plan, values, C, drawn_rows, cut - drawn_rows,
-                         &rows_stats);
+        meshes.draw(window, drawn_rows - window_origin, drawn_rows, cut, nullptr, &rows_stats);
       }
       if (render_stats) *render_stats = rows_stats;
       drawn_rows = cut;
@@ -368,19 +434,19 @@ void make_consistent_streamed(int out_width, int out_height, const std::vector<f
       if (ready > stepped[k + 1]) {
         const int first = row_of[stepped[k + 1]];
         const SlidingRows<float>& rows = step_values[k];
-        if (!slide) {  // kept whole: a mesh without triangles or with a hull not convex
-          add_mesh_render_into(window, first - window_origin, *plan, rows.values, C, first, row_of[ready] - first);
-        } else {
-          // The rows written: reading another is an error, not a stale value.
-          const VertexValues held{rows.values.data(), index_t(rows.origin) * W, index_t(residual_done[k]) * W};
-          add_mesh_render_into(window, first - window_origin, *plan, held, C, first, row_of[ready] - first);
-        }
+        // The rows written: reading another is an error, not a stale value
+        // (kept whole, from row 0, for a mesh without triangles or with a
+        // hull not convex).
+        const VertexValues held{rows.values.data(), index_t(rows.origin) * W,
+                                slide ? index_t(residual_done[k]) * W : index_t(H) * W};
+        meshes.add(window, first - window_origin, first, row_of[ready], held);
         stepped[k + 1] = ready;
       }
     }
-    if (plan && stepped[K] == H) {  // the mesh is read no more
+    if (!meshes_done) meshes.release(row_of[stepped[K]]);
+    if (!meshes_done && stepped[K] == H) {  // the meshes are read no more
+      meshes_done = true;
       local.mesh_steps = K;
-      plan.reset();
       std::vector<SlidingRows<float>>().swap(step_values);
       std::vector<float>().swap(gradient_rows.values);
       if (options.mesh_done) options.mesh_done();

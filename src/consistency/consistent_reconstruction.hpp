@@ -99,6 +99,35 @@ void make_consistent(Image& out, const Mesh2& mesh, const Image& src, const Cons
 // floats a vertex (rasterizer.hpp), the lattice's vertices row by row.
 using GradientRows = std::function<std::vector<float>(int first, int end)>;
 
+// The meshes make_consistent_streamed draws from, by output rows: one
+// mesh (the overload below), or bands of rows each with a mesh of its own,
+// made when the wavefront reaches them and freed once it has passed
+// (pipeline/banded_meshes.hpp). Every draw gives the one mesh's bits.
+// Vertex ids are the whole image's pixels, row by row.
+class WavefrontMeshes {
+ public:
+  virtual ~WavefrontMeshes() = default;
+  // Makes ready the mesh that draws output row `row` (and the rows before
+  // it that are still to be drawn); returns the end of the output rows
+  // drawn by meshes ready from `row` on (more than `row`).
+  virtual int prepare(int row) = 0;
+  // The most input rows a triangle of the meshes made so far spans.
+  virtual int triangle_rows() const = 0;
+  // Whether draws read windows of rows of values (rasterizer.hpp:
+  // RenderPlan::adds_windows_of_values); else whole arrays of them.
+  virtual bool slides() const = 0;
+  // The first row at or after `row` (at most prepare's end) where a draw
+  // of the surface may end at the least cost (RenderPlan::window_boundary).
+  virtual int window_boundary(int row) const = 0;
+  // The rendered surface of output rows [first, end) (prepared), cubic
+  // where `gradients` is set, into `into`'s rows from `at`.
+  virtual void draw(Image& into, int at, int first, int end, const VertexValues* gradients, RenderStats* stats) = 0;
+  // The linear surface of `values` added into output rows [first, end).
+  virtual void add(Image& into, int at, int first, int end, const VertexValues& values) = 0;
+  // Output rows before `row` are drawn no more.
+  virtual void release(int row) = 0;
+};
+
 // As make_consistent on the whole image, with the rendered surface (mesh
 // drawn from `values`, cubic where `gradients` is set: rasterizer.hpp)
 // drawn here instead of held, and the result handed to
@@ -116,6 +145,12 @@ void make_consistent_streamed(int out_width, int out_height, const std::vector<f
                               const ConsistencyOptions& options, ConsistencyStats* stats = nullptr,
                               RenderStats* render_stats = nullptr);
 bool make_consistent_streams(const AcquisitionModel& model, int width, int height, int out_width, int out_height);
+// The wavefront on meshes of the caller's, where make_consistent_streams()
+// (else a ddt::Error). Growing meshes.triangle_rows() as bands are made
+// only widens the rows held.
+void make_consistent_streamed(int out_width, int out_height, WavefrontMeshes& meshes, const GradientRows& gradients,
+                              const Image& src, const ConsistencyOptions& options, ConsistencyStats* stats = nullptr,
+                              RenderStats* render_stats = nullptr);
 
 // Input rows of margin a band needs on a cut side, beyond those its mesh
 // needs, for the consistent reconstruction of an image of width x height

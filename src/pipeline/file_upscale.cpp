@@ -73,7 +73,11 @@ double upscale_job_bytes(int width, int height, int channels, int out_width, int
   const double out_pixels = std::min(double(out_width) * out_height, held_rows * out_width);
   const double images = 4.0 * channels * (in_pixels + out_pixels * output_images);
   const bool tiled = options.optimizer == Optimizer::lawson && options.tile_rows >= 0;
-  const double mesh = 200.0 * in_pixels;
+  const int mesh_bands =
+      wavefront ? wavefront_mesh_band_rows(width, height, out_width, out_height, options) : 0;
+  const double mesh = mesh_bands > 0 ? wavefront_mesh_bytes(width, height, channels, out_width, out_height,
+                                                            mesh_bands, options)
+                                     : 200.0 * in_pixels;
   return images + (tiled ? std::min(mesh, 0.5 * double(physical_memory())) : mesh);
 }
 

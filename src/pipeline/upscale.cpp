@@ -7,6 +7,7 @@
 #include "util/error.hpp"
 #include "io/image_io.hpp"
 #include "image/image_mesh.hpp"
+#include "pipeline/banded_meshes.hpp"
 #include "pipeline/banded_upscale.hpp"
 #include "pipeline/drive_channels.hpp"
 #include "pipeline/stages.hpp"
@@ -142,6 +143,21 @@ Mesh2 band_mesh(const std::vector<float>& values, int W, int C, const Band& band
   return mesh;
 }
 
+// Input rows a band of the whole image's wavefront draws from its own mesh
+// (BandedMeshes), or 0 for one mesh: under the region schedule, where two
+// bands and their margins (what the wavefront holds at once) are under
+// three quarters of the image's rows, or as options.mesh_band_rows says.
+int wavefront_band_rows(int height, int region_rows, int margin, const UpscaleOptions& options) {
+  if (options.mesh_band_rows < 0 || region_rows <= 0 || options.optimizer != Optimizer::lawson) return 0;
+  if (options.mesh_band_rows > 0) return options.mesh_band_rows < height ? options.mesh_band_rows : 0;
+  const int rows = std::max(1024, 4 * margin);
+  return 4 * 2 * (rows + 2 * margin) <= 3 * height ? rows : 0;
+}
+
+// The margin a mesh band starts with: two regions and the planned
+// triangle height (BandedMeshes widens it where a band needs more).
+int planned_mesh_band_margin(int region_rows) { return 2 * region_rows + 8 + planned_triangle_rows + 1; }
+
 // Triangulates, optimizes and renders one band of input rows into `out`.
 // Returns the optimizer's statistics (phases in `iterations`).
 // `src` holds rows [src_top, src_top + src.height) of an image of
@@ -166,9 +182,19 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
         src.pixels.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(band.bottom - src_top) * W * C));
   const std::vector<float>& values = whole ? src.pixels : band_pixels;
 
-  LawsonStats ls;
-  Mesh2 mesh = band_mesh(values, W, C, band, options, cost, drive, region_triangles, region_rows, stages, local, ls);
   const bool consistent = options.model.kind != AcquisitionModel::Kind::point;
+  // The whole image's consistent reconstruction, streamed, draws its
+  // surface a band of rows at a time as its wavefront needs it, and holds
+  // no whole output (make_consistent_streamed); on a tall image, from
+  // meshes made a band at a time too.
+  const bool wavefront = consistent && whole && options.output_rows &&
+                         make_consistent_streams(options.model, W, image_height, out_width, out_height);
+  const int mesh_band_rows =
+      wavefront ? wavefront_band_rows(image_height, region_rows, planned_mesh_band_margin(region_rows), options) : 0;
+  LawsonStats ls;
+  Mesh2 mesh;
+  if (mesh_band_rows == 0)
+    mesh = band_mesh(values, W, C, band, options, cost, drive, region_triangles, region_rows, stages, local, ls);
   // A margin too narrow for the phases run (and for the consistent
   // reconstruction's reach on this mesh): the caller redoes the band with
   // a wider one, so nothing is drawn (or handed out) from this one.
@@ -193,11 +219,6 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
                          first_output_row(band.top, image_height, out_height),
                      C);
   }
-  // The whole image's consistent reconstruction, streamed, draws its
-  // surface a band of rows at a time as its wavefront needs it, and holds
-  // no whole output (make_consistent_streamed).
-  const bool wavefront = consistent && whole && options.output_rows &&
-                         make_consistent_streams(options.model, W, image_height, out_width, out_height);
   Image no_output;
   Image& out = band_image ? own_rows : wavefront ? no_output : output();
   auto t0 = Clock::now();
@@ -281,9 +302,44 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
     GradientRows gradient_rows;
     if (cubic)
       gradient_rows = [&](int first, int end) { return gradients_of(src, options.slopes, first, end); };
-    make_consistent_streamed(out_width, out_height, values, gradient_rows, mesh, src, co, &cs, &rs);
-    local.seconds_render += cs.seconds_surface;
-    log_render(cs.seconds_surface, " (a band at a time, with the consistent reconstruction)");
+    double mesh_seconds = 0;  // the bands' meshes, made within the wavefront's surface stage
+    if (mesh_band_rows > 0) {
+      const StageRunner quiet(nullptr, nullptr);
+      int made = 0;
+      auto make = [&](int top, int bottom) {
+        const auto t = Clock::now();
+        const std::vector<float> rows(values.begin() + static_cast<std::ptrdiff_t>(src.index(0, top)),
+                                      values.begin() + static_cast<std::ptrdiff_t>(src.index(0, bottom)));
+        LawsonStats band_ls;
+        BandMesh made_band;
+        made_band.mesh = band_mesh(rows, W, C, Band{top, bottom, 0, 0}, options, cost, drive, region_triangles,
+                                   region_rows, quiet, local, band_ls);
+        made_band.phases = band_ls.iterations;
+        ls.iterations = std::max(ls.iterations, band_ls.iterations);
+        ls.regions = std::max(ls.regions, band_ls.regions);
+        ls.flips += band_ls.flips;
+        ls.tests += band_ls.tests;
+        ls.cost_before += band_ls.cost_before;
+        ls.cost_after += band_ls.cost_after;
+        const double seconds = seconds_since(t);
+        mesh_seconds += seconds;
+        char line[200];
+        std::snprintf(line, sizeof line, "mesh band %d: rows %d..%d, %d triangles, %d phases, %lld flips, %.3f s",
+                      ++made, top, bottom, made_band.mesh.triangle_count(), band_ls.iterations, band_ls.flips,
+                      seconds);
+        stages.log(line);
+        return made_band;
+      };
+      BandedMeshes meshes(src, grid, mesh_band_rows, region_rows, planned_mesh_band_margin(region_rows), make);
+      make_consistent_streamed(out_width, out_height, meshes, gradient_rows, src, co, &cs, &rs);
+      stages.log("mesh bands: " + std::to_string(meshes.bands_made()) + " of " + std::to_string(mesh_band_rows) +
+                 " rows, margin " + std::to_string(meshes.margin()) + " rows, " +
+                 std::to_string(meshes.bands_redone()) + " redone with a wider margin");
+    } else {
+      make_consistent_streamed(out_width, out_height, values, gradient_rows, mesh, src, co, &cs, &rs);
+    }
+    local.seconds_render += cs.seconds_surface - mesh_seconds;
+    log_render(cs.seconds_surface - mesh_seconds, " (a band at a time, with the consistent reconstruction)");
   } else {
     // The mesh and the gradients are freed before the last steps, whose
     // bands of output rows can then reuse their memory.
@@ -376,7 +432,12 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
   } else if (can_tile && options.tile_rows == 0) {
     const double budget = options.max_memory > 0 ? double(options.max_memory) : 0.5 * double(physical_memory());
     const double input = 4.0 * C * W * H;
-    if (input + banded_bytes(W, H, C, out_width, out_height, H, 0) > budget) {
+    // Streamed through the wavefront from meshes made by bands, the whole
+    // image holds two bands' meshes and the wavefront's rows.
+    const int mesh_bands = options.output_rows ? wavefront_mesh_band_rows(W, H, out_width, out_height, options) : 0;
+    const double whole_job = mesh_bands > 0 ? wavefront_mesh_bytes(W, H, C, out_width, out_height, mesh_bands, options)
+                                            : banded_bytes(W, H, C, out_width, out_height, H, 0);
+    if (input + whole_job > budget) {
       // The bands beside the input and the output held whole (unless streamed).
       const double held_output = options.output_rows ? 0.0 : 4.0 * C * out_width * out_height;
       tile_rows =
@@ -461,6 +522,22 @@ void add_band_stats(UpscaleStats& total, const UpscaleStats& band, bool first_ba
 }
 
 int output_row_of(int y, int in_height, int out_height) { return first_output_row(y, in_height, out_height); }
+
+int wavefront_mesh_band_rows(int width, int height, int out_width, int out_height, const UpscaleOptions& options) {
+  if (!is_consistent(width, height, out_width, out_height, options.model) ||
+      !make_consistent_streams(options.model, width, height, out_width, out_height))
+    return 0;
+  const int region_rows = optimizer_region_rows(width, height, options);
+  return wavefront_band_rows(height, region_rows, planned_mesh_band_margin(region_rows), options);
+}
+
+double wavefront_mesh_bytes(int width, int height, int channels, int out_width, int out_height, int band_rows,
+                            const UpscaleOptions& options) {
+  const int margin = planned_mesh_band_margin(optimizer_region_rows(width, height, options));
+  const double band_pixels = double(width) * std::min<double>(height, 2.0 * (band_rows + 2.0 * margin));
+  const double wavefront_rows = std::min<double>(out_height, 256.0 * out_height / height);
+  return (90.0 + 5.0 * channels) * band_pixels + 3 * 4.0 * channels * out_width * wavefront_rows;
+}
 
 int band_margin_needed(int phases, int region_rows) { return (phases + 1) * ((region_rows + 1) / 2) + 8; }
 

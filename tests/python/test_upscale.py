@@ -282,6 +282,19 @@ def test_upscale_file_reads_by_bands_to_the_same_bits(tmp_path, capfd, model):
     np.testing.assert_array_equal(_read_ppm(tmp_path / "m.ppm"), _read_ppm(tmp_path / "b.ppm"))
 
 
+def test_upscale_file_mesh_bands_write_the_bits_of_one_mesh(tmp_path, capfd):
+    # The box model's streamed wavefront from meshes made by bands (pipeline/banded_meshes.hpp).
+    rng = np.random.default_rng(8)
+    ramp = np.linspace(0, 1, 400)[:, None, None] * np.array([0.2, 0.7, 0.4])
+    image = (np.clip(ramp + rng.uniform(0, 0.25, (400, 96, 3)), 0, 1) * 255).round().astype(np.uint8)
+    _write_ppm(tmp_path / "in.ppm", image)
+    options = dict(region_rows=16, tile_rows=-1)
+    ddtscale.upscale_file(tmp_path / "in.ppm", tmp_path / "b.ppm", 2, mesh_band_rows=100, verbose=True, **options)
+    assert "mesh bands: 4 of 100 rows" in capfd.readouterr().err
+    ddtscale.upscale_file(tmp_path / "in.ppm", tmp_path / "o.ppm", 2, mesh_band_rows=-1, **options)
+    np.testing.assert_array_equal(_read_ppm(tmp_path / "b.ppm"), _read_ppm(tmp_path / "o.ppm"))
+
+
 def test_upscale_file_takes_the_command_lines_file_options(textured, tmp_path):
     image = (textured * 255).round().astype(np.uint8)
     _write_ppm(tmp_path / "in.ppm", image)

@@ -1,0 +1,154 @@
+#include "pipeline/banded_meshes.hpp"
+
+#include "pipeline/upscale.hpp"
+#include "util/error.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+namespace ddt {
+
+struct BandedMeshes::Band {
+  int first = 0, end = 0;          // input rows it draws
+  int out_first = 0, out_end = 0;  // their output rows
+  int top = 0;                     // its mesh's first input row
+  index_t vertices = 0;
+  Mesh2 mesh;
+  std::vector<float> values;       // its rows of the input, by its vertex ids
+  std::optional<RenderPlan> plan;  // reads `mesh`: a Band does not move
+};
+
+namespace {
+
+// The most input rows spanned by a triangle over input rows [first, end]
+// (vertex y is its row + 0.5): those that draw the band's output rows.
+int span_over(const Mesh2& mesh, int first, int end) {
+  int span = 0;
+  for (std::size_t t = 0; t + 2 < mesh.tri.size(); t += 3) {
+    const double y0 = mesh.points[mesh.tri[t]].y, y1 = mesh.points[mesh.tri[t + 1]].y,
+                 y2 = mesh.points[mesh.tri[t + 2]].y;
+    const double lo = std::min({y0, y1, y2}), hi = std::max({y0, y1, y2});
+    if (hi >= first && lo <= end) span = std::max(span, static_cast<int>(std::ceil(hi - lo)));
+  }
+  return span;
+}
+
+// The window of `w` (vertices of the whole image, `per_vertex` floats each)
+// that the band's vertex ids [0, vertices) hold, in those ids.
+VertexValues in_band(const VertexValues& w, index_t offset, index_t vertices, int per_vertex) {
+  const index_t first = std::max(w.first, offset), end = std::min(w.end, offset + vertices);
+  if (end <= first) return {};
+  return {w.data + static_cast<std::size_t>(first - w.first) * per_vertex, first - offset, end - offset};
+}
+
+}  // namespace
+
+BandedMeshes::BandedMeshes(const Image& src, const RenderGrid& grid, int band_rows, int region_rows, int margin,
+                           MakeBandMesh make)
+    : src_(src), grid_(grid), band_rows_(std::max(1, band_rows)), region_rows_(region_rows),
+      margin_(std::max(0, margin)), make_(std::move(make)) {}
+
+BandedMeshes::~BandedMeshes() = default;
+
+void BandedMeshes::make_next() {
+  const int W = src_.width, H = src_.height;
+  auto band = std::make_unique<Band>();
+  band->first = next_first_;
+  band->end = std::min(H, band->first + band_rows_);
+  if (band->first >= H) throw Error("the consistent reconstruction: no rows left for a mesh band");
+  int bottom = H, span = 0;
+  for (;;) {
+    band->top = std::max(0, band->first - margin_);
+    bottom = std::min(H, band->end + margin_);
+    BandMesh made = make_(band->top, bottom);
+    span = span_over(made.mesh, band->first, band->end);
+    const int needed = band_margin_needed(made.phases, region_rows_) + span + 1;
+    const bool top_holds = band->top == 0 || band->first - band->top >= needed;
+    const bool bottom_holds = bottom == H || bottom - band->end >= needed;
+    if (top_holds && bottom_holds) {
+      band->mesh = std::move(made.mesh);
+      break;
+    }
+    margin_ = widened_band_margin(margin_, needed, region_rows_);
+    ++redone_;
+  }
+  band->vertices = static_cast<index_t>(band->mesh.points.size());
+  if (band->vertices != static_cast<index_t>(W) * (bottom - band->top))
+    throw Error("the consistent reconstruction: a band's mesh is not its rows' pixel grid");
+  band->values.assign(src_.pixels.begin() + static_cast<std::ptrdiff_t>(src_.index(0, band->top)),
+                      src_.pixels.begin() + static_cast<std::ptrdiff_t>(src_.index(0, bottom)));
+  band->out_first = output_row_of(band->first, H, grid_.height);
+  band->out_end = output_row_of(band->end, H, grid_.height);
+  band->plan.emplace(band->mesh, grid_);
+  reach_ = std::max(reach_, span);
+  triangles_ += band->mesh.triangle_count();
+  ++made_;
+  next_first_ = band->end;
+  bands_.push_back(std::move(band));
+}
+
+const BandedMeshes::Band& BandedMeshes::band_at(int row) const {
+  for (const auto& band : bands_)
+    if (row >= band->out_first && row < band->out_end) return *band;
+  throw Error("the consistent reconstruction: output row " + std::to_string(row) + " has no mesh band ready");
+}
+
+int BandedMeshes::prepare(int row) {
+  if (row >= grid_.height) return grid_.height;
+  while (bands_.empty() || bands_.back()->out_end <= row) make_next();
+  return band_at(row).out_end;
+}
+
+int BandedMeshes::window_boundary(int row) const {
+  for (const auto& band : bands_)
+    if (row > band->out_first && row <= band->out_end)  // a band's end is a boundary: draws are cut there
+      return std::min(band->out_end, band->plan->window_boundary(row));
+  return row;
+}
+
+void BandedMeshes::draw(Image& into, int at, int first, int end, const VertexValues* gradients, RenderStats* stats) {
+  const int C = src_.channels;
+  const std::ptrdiff_t row_floats = static_cast<std::ptrdiff_t>(grid_.width) * C;
+  RenderStats local;
+  for (const auto& owned : bands_) {
+    const Band& band = *owned;
+    const int f = std::max(first, band.out_first), e = std::min(end, band.out_end);
+    if (f >= e) continue;
+    const index_t offset = static_cast<index_t>(band.top) * src_.width;
+    const std::optional<VertexValues> slopes =
+        gradients ? std::optional<VertexValues>(in_band(*gradients, offset, band.vertices, 2 * C)) : std::nullopt;
+    // Where [f, e) cuts a group of the band's rows, the groups around it
+    // are drawn whole and the rows kept (the bits of an uncut draw).
+    const int a = band.plan->window_start(f), b = std::min(grid_.height, band.plan->window_boundary(e));
+    Image whole_groups;
+    Image& target = a == f && b == e ? into : (whole_groups = Image(grid_.width, b - a, C));
+    const int target_row = a == f && b == e ? at + (f - first) : 0;
+    if (slopes) render_mesh_into(target, target_row, *band.plan, band.values, C, a, b - a, *slopes, &local);
+    else render_mesh_into(target, target_row, *band.plan, band.values, C, a, b - a, &local);
+    if (&target != &into)
+      std::copy(whole_groups.pixels.begin() + row_floats * (f - a), whole_groups.pixels.begin() + row_floats * (e - a),
+                into.pixels.begin() + row_floats * (at + (f - first)));
+  }
+  if (stats) {
+    *stats = local;
+    stats->triangles = triangles_;
+  }
+}
+
+void BandedMeshes::add(Image& into, int at, int first, int end, const VertexValues& values) {
+  const int C = src_.channels;
+  for (const auto& owned : bands_) {
+    const Band& band = *owned;
+    const int f = std::max(first, band.out_first), e = std::min(end, band.out_end);
+    if (f >= e) continue;
+    const index_t offset = static_cast<index_t>(band.top) * src_.width;
+    add_mesh_render_into(into, at + (f - first), *band.plan, in_band(values, offset, band.vertices, C), C, f, e - f);
+  }
+}
+
+void BandedMeshes::release(int row) {
+  while (!bands_.empty() && bands_.front()->out_end <= row) bands_.pop_front();
+}
+
+}  // namespace ddt

@@ -1,0 +1,73 @@
+#pragma once
+// ddt::BandedMeshes — the meshes the whole image's streamed consistent
+// reconstruction (make_consistent_streamed) draws from, made a band of
+// rows at a time: a band's mesh when the wavefront reaches its rows, freed
+// once the wavefront has passed them. The meshes held are two bands' with
+// their margins, not the image's.
+//
+// A band draws input rows [first, end) (the output rows sampled there,
+// first_output_row). Its mesh is made by the caller (MakeBandMesh:
+// triangulated and optimized under the region schedule on rows [top,
+// bottom), the band with `margin` rows each side where the image goes on).
+// The margin is enough when, on each cut side, it holds the optimizer's
+// reach for the phases it ran (band_margin_needed) plus the height of the
+// triangles over the band's rows; else the band is made again with a wider
+// one (widened_band_margin), which later bands keep. Then the triangles
+// over its rows are the whole image's mesh's (the tiles' argument,
+// docs/performance.md), and every draw gives that mesh's bits.
+//
+// Vertex ids are the whole image's pixels, row by row, as the wavefront
+// counts them; a band's mesh numbers its own from row `top`.
+
+#include "consistency/consistent_reconstruction.hpp"
+
+#include <deque>
+#include <functional>
+#include <memory>
+
+namespace ddt {
+
+struct BandMesh {
+  Mesh2 mesh;      // of input rows [top, bottom): vertex v is pixel (v % W, top + v / W)
+  int phases = 0;  // the optimizer's phases
+};
+using MakeBandMesh = std::function<BandMesh(int top, int bottom)>;
+
+class BandedMeshes final : public WavefrontMeshes {
+ public:
+  // src: the whole input (each band keeps a copy of its rows); grid: the
+  // surface's output grid; band_rows: input rows a band draws; margin: the
+  // margin tried first.
+  BandedMeshes(const Image& src, const RenderGrid& grid, int band_rows, int region_rows, int margin,
+               MakeBandMesh make);
+  ~BandedMeshes() override;
+
+  int prepare(int row) override;
+  int triangle_rows() const override { return reach_; }
+  bool slides() const override { return true; }
+  int window_boundary(int row) const override;
+  void draw(Image& into, int at, int first, int end, const VertexValues* gradients, RenderStats* stats) override;
+  void add(Image& into, int at, int first, int end, const VertexValues& values) override;
+  void release(int row) override;
+
+  int bands_made() const { return made_; }
+  int bands_redone() const { return redone_; }
+  int margin() const { return margin_; }
+  long long triangles() const { return triangles_; }
+
+ private:
+  struct Band;
+  void make_next();
+  const Band& band_at(int row) const;
+
+  const Image& src_;
+  RenderGrid grid_;
+  int band_rows_, region_rows_, margin_;
+  MakeBandMesh make_;
+  std::deque<std::unique_ptr<Band>> bands_;  // in row order, those not yet released
+  int next_first_ = 0;                       // the first input row of the next band
+  int reach_ = 0, made_ = 0, redone_ = 0;
+  long long triangles_ = 0;
+};
+
+}  // namespace ddt
