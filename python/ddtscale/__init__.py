@@ -188,7 +188,10 @@ def upscale_file(input: str, output: str, scale: Optional[float] = None,
     line's job: the output is encoded by bands while the work goes on, and
     an image whose job does not fit in memory (or tile_rows=N, or more than
     max_memory: bytes or a size such as "2G") is read, enlarged and written
-    by bands, to the same bits. Options are those of
+    by bands, to the same bits; under the box model at whole scales a tall
+    image's mesh is made by bands of rows as the reconstruction reaches them
+    (mesh_band_rows=N; 0: automatic, -1: one mesh), to the same bits too.
+    Options are those of
     upscale() but compare and mesh, and the command line's for the file
     (UPSCALE_FILE_OPTIONS): compression ("1:up", "9:adaptive" for PNG;
     "piz", "zip", "dwaa:45" for EXR; "lzw", "jpeg:90" for TIFF), quality
