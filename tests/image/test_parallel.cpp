@@ -108,6 +108,14 @@ TEST_CASE("optimize_lawson: the fast evaluators decide exactly as flip_costs") {
         // caches and tracks the total after from the gains.
         CHECK(a.cost_before == doctest::Approx(total_before).epsilon(1e-12));
         CHECK(a.cost_after == doctest::Approx(total_cost(fast, values, K, find_cost(name))).epsilon(1e-12));
+        LawsonOptions none = opt;  // no iteration: the totals are still the mesh's
+        none.fast_evaluation = true;
+        none.max_iterations = 0;
+        Mesh2 untouched = delaunay_triangulation(test::grid_points(w, h));
+        const LawsonStats c = optimize_lawson(untouched, values, K, find_cost(name), none);
+        CHECK(c.flips == 0);
+        CHECK(c.cost_before == doctest::Approx(total_before).epsilon(1e-12));
+        CHECK(c.cost_after == c.cost_before);
         CHECK(b.skipped_flat == 0);
         CHECK(a.skipped_flat > 0);  // the flat patches
       }
