@@ -133,7 +133,7 @@ struct UpscaleOptions {
   // margins when its wavefront reaches them and freed once it has passed:
   // the same output bit for bit, with two bands' meshes held instead of
   // the image's. 0: automatic (images tall enough that two bands and their
-  // margins are under three quarters of the rows), < 0: one mesh. Only
+  // margins are at most half the rows), < 0: one mesh. Only
   // under the region schedule, as tile_rows.
   int mesh_band_rows = 0;
   // A memory target for the job, in bytes (the process's resident pages
