@@ -66,7 +66,11 @@ class BandedMeshes final : public WavefrontMeshes {
   MakeBandMesh make_;
   std::deque<std::unique_ptr<Band>> bands_;  // in row order, those not yet released
   int next_first_ = 0;                       // the first input row of the next band
-  int reach_ = 0, made_ = 0, redone_ = 0;
+  // At least the planned height: the wavefront drops rows of values by the
+  // reach it knows, so a later band's taller triangles must not outrun it
+  // (they would be refused, not drawn wrong).
+  int reach_ = planned_triangle_rows;
+  int made_ = 0, redone_ = 0;
   long long triangles_ = 0;
 };
 
