@@ -121,13 +121,15 @@ void BandedMeshes::draw(Image& into, int at, int first, int end, const VertexVal
     // Where [f, e) cuts a group of the band's rows, the groups around it
     // are drawn whole and the rows kept (the bits of an uncut draw).
     const int a = band.plan->window_start(f), b = std::min(grid_.height, band.plan->window_boundary(e));
-    Image whole_groups;
-    Image& target = a == f && b == e ? into : (whole_groups = Image(grid_.width, b - a, C));
-    const int target_row = a == f && b == e ? at + (f - first) : 0;
+    const bool aligned = a == f && b == e;
+    Image groups;
+    if (!aligned) groups = Image(grid_.width, b - a, C);
+    Image& target = aligned ? into : groups;
+    const int target_row = aligned ? at + (f - first) : 0;
     if (slopes) render_mesh_into(target, target_row, *band.plan, band.values, C, a, b - a, *slopes, &local);
     else render_mesh_into(target, target_row, *band.plan, band.values, C, a, b - a, &local);
-    if (&target != &into)
-      std::copy(whole_groups.pixels.begin() + row_floats * (f - a), whole_groups.pixels.begin() + row_floats * (e - a),
+    if (!aligned)
+      std::copy(groups.pixels.begin() + row_floats * (f - a), groups.pixels.begin() + row_floats * (e - a),
                 into.pixels.begin() + row_floats * (at + (f - first)));
   }
   if (stats) {
