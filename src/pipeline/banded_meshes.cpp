@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <string>
 
 namespace ddt {
 
@@ -32,6 +33,16 @@ int span_over(const Mesh2& mesh, int first, int end) {
     if (hi >= first && lo <= end) span = std::max(span, static_cast<int>(std::ceil(hi - lo)));
   }
   return span;
+}
+
+// Rows [first, end) lie in the bands held: a draw never leaves rows unset.
+template <class Bands>
+void check_held(const Bands& bands, int first, int end) {
+  long long covered = 0;
+  for (const auto& band : bands) covered += std::max(0, std::min(end, band->out_end) - std::max(first, band->out_first));
+  if (covered != end - first)
+    throw Error("the consistent reconstruction: output rows " + std::to_string(first) + ".." + std::to_string(end) +
+                " are not all in the mesh bands held");
 }
 
 // The window of `w` (vertices of the whole image, `per_vertex` floats each)
@@ -110,6 +121,7 @@ int BandedMeshes::window_boundary(int row) const {
 void BandedMeshes::draw(Image& into, int at, int first, int end, const VertexValues* gradients, RenderStats* stats) {
   const int C = src_.channels;
   const std::ptrdiff_t row_floats = static_cast<std::ptrdiff_t>(grid_.width) * C;
+  check_held(bands_, first, end);
   RenderStats local;
   for (const auto& owned : bands_) {
     const Band& band = *owned;
@@ -140,6 +152,7 @@ void BandedMeshes::draw(Image& into, int at, int first, int end, const VertexVal
 
 void BandedMeshes::add(Image& into, int at, int first, int end, const VertexValues& values) {
   const int C = src_.channels;
+  check_held(bands_, first, end);
   for (const auto& owned : bands_) {
     const Band& band = *owned;
     const int f = std::max(first, band.out_first), e = std::min(end, band.out_end);

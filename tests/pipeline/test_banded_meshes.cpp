@@ -1,0 +1,93 @@
+// BandedMeshes (pipeline/banded_meshes.hpp): the streamed reconstruction's
+// meshes made a band of rows at a time draw the one mesh's pixels.
+
+#include "image/cubic_surface.hpp"
+#include "image/rasterizer.hpp"
+#include "image/triangulation.hpp"
+#include "pipeline/banded_meshes.hpp"
+#include "util/error.hpp"
+
+#include <doctest/doctest.h>
+
+#include <random>
+
+using namespace ddt;
+
+namespace {
+
+// The Delaunay mesh of input rows [top, bottom) of a grid `width` pixels
+// wide, its vertices at the whole image's pixel centres.
+Mesh2 rows_mesh(int width, int top, int bottom) {
+  std::vector<Point2> points;
+  for (int y = top; y < bottom; ++y)
+    for (int x = 0; x < width; ++x) points.push_back({x + 0.5, y + 0.5});
+  return delaunay_triangulation(points);
+}
+
+}  // namespace
+
+TEST_CASE("BandedMeshes: surfaces and added renders are the one mesh's, drawn a band at a time") {
+  const int W = 23, H = 90, C = 2, scale = 3;
+  Image src(W, H, C);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> value(0.0f, 1.0f);
+  for (float& v : src.pixels) v = value(rng);
+  RenderGrid grid;
+  grid.width = scale * W;
+  grid.height = scale * H;
+  grid.scale_x = grid.scale_y = scale;
+  const Mesh2 whole = rows_mesh(W, 0, H);
+  const RenderPlan plan(whole, grid);
+  const std::vector<float> gradients = grid_gradients(src, SlopeLimiter::mc4);
+  const VertexValues all_gradients{gradients.data(), 0, W * H};
+  const VertexValues all_values{src.pixels.data(), 0, W * H};
+
+  int made = 0;
+  // Margin 3 is too narrow for 4-row regions: every cut band is made again, wider.
+  BandedMeshes meshes(src, grid, 20, 4, 3, [&](int top, int bottom) {
+    ++made;
+    return BandMesh{rows_mesh(W, top, bottom), 0};
+  });
+  Image linear(grid.width, grid.height, C), cubic(grid.width, grid.height, C), added(grid.width, grid.height, C, 0.5f);
+  // Cuts every 17 rows: most of them inside a band's groups of rows.
+  for (int row = 0; row < grid.height;) {
+    const int ready = meshes.prepare(row);
+    REQUIRE(ready > row);
+    const int cut = std::min(ready, row + 17);
+    meshes.draw(linear, row, row, cut, nullptr, nullptr);
+    meshes.draw(cubic, row, row, cut, &all_gradients, nullptr);
+    meshes.add(added, row, row, cut, all_values);
+    meshes.release(row);
+    row = cut;
+  }
+  CHECK(meshes.bands_made() == 5);
+  CHECK(meshes.bands_redone() >= 1);
+  CHECK(made == meshes.bands_made() + meshes.bands_redone());
+  CHECK(meshes.margin() >= 12);  // band_margin_needed(0 phases, 4) + a triangle's row + 1
+
+  Image want_linear(grid.width, grid.height, C), want_cubic(grid.width, grid.height, C),
+      want_added(grid.width, grid.height, C, 0.5f);
+  render_mesh_into(want_linear, 0, plan, src.pixels, C, 0, grid.height);
+  render_mesh_into(want_cubic, 0, plan, src.pixels, C, 0, grid.height, all_gradients);
+  add_mesh_render_into(want_added, 0, plan, all_values, C, 0, grid.height);
+  CHECK(linear.pixels == want_linear.pixels);
+  CHECK(cubic.pixels == want_cubic.pixels);
+  CHECK(added.pixels == want_added.pixels);
+
+  // Rows of a band released are refused, not left unset.
+  CHECK_THROWS_AS(meshes.draw(linear, 0, 0, 10, nullptr, nullptr), Error);
+  CHECK_THROWS_AS(meshes.add(added, 0, 0, 10, all_values), Error);
+}
+
+TEST_CASE("BandedMeshes: a band's mesh that is not its rows' pixel grid is an error") {
+  const int W = 10, H = 60;
+  Image src(W, H, 1);
+  RenderGrid grid;
+  grid.width = 2 * W;
+  grid.height = 2 * H;
+  grid.scale_x = grid.scale_y = 2;
+  BandedMeshes meshes(src, grid, 20, 4, 30, [&](int top, int bottom) {
+    return BandMesh{rows_mesh(W, top, bottom - 1), 0};  // a row short
+  });
+  CHECK_THROWS_WITH_AS(meshes.prepare(0), doctest::Contains("not its rows' pixel grid"), Error);
+}
