@@ -163,12 +163,12 @@ bool is_unit_grid(const std::vector<Point2>& points, int& W, int& H) {
   return true;
 }
 
-// The core's cells of the W x H grid as a Mesh2: the same triangles, and
-// facet slot 3t + (k + 2) % 3 is half-edge 3t + k (as_simplex_mesh).
-bool grid_delaunay(const std::vector<Point2>& points, int W, int H, Mesh2& mesh) {
+// The core's cells of the W x H grid as a Mesh2's triangles and twins (its
+// points are the caller's): the same triangles, and facet slot
+// 3t + (k + 2) % 3 is half-edge 3t + k (as_simplex_mesh).
+bool grid_delaunay(int W, int H, Mesh2& mesh) {
   std::vector<index_t> facet_opp;
   if (!core::grid_delaunay_cells<2>({W, H}, mesh.tri, facet_opp)) return false;
-  mesh.points = points;
   mesh.opp = std::move(facet_opp);
   auto half_edge = [](index_t slot) { return slot < 0 ? slot : 3 * tri_of(slot) + (slot % 3 + 1) % 3; };
   tbb::parallel_for(std::size_t(0), mesh.tri.size() / 3, [&](std::size_t t) {
@@ -219,10 +219,23 @@ bool violates_perturbed_delaunay(const Mesh2& mesh, index_t e) {
                              [&](int i, int j, int k) { return orientation(*p[i], *p[j], *p[k]); });
 }
 
+Mesh2 delaunay_triangulation(std::vector<Point2>&& points) {
+  int W = 0, H = 0;
+  Mesh2 grid;
+  if (is_unit_grid(points, W, H) && grid_delaunay(W, H, grid)) {
+    grid.points = std::move(points);
+    return grid;
+  }
+  return general_delaunay(points);
+}
+
 Mesh2 delaunay_triangulation(const std::vector<Point2>& points) {
   int W = 0, H = 0;
   Mesh2 grid;
-  if (is_unit_grid(points, W, H) && grid_delaunay(points, W, H, grid)) return grid;
+  if (is_unit_grid(points, W, H) && grid_delaunay(W, H, grid)) {
+    grid.points = points;
+    return grid;
+  }
   return general_delaunay(points);
 }
 

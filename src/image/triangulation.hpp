@@ -30,6 +30,8 @@
 namespace ddt {
 
 Mesh2 delaunay_triangulation(const std::vector<Point2>& points);
+// The same, the points moved into the mesh (a pixel grid's: no copy of them held beside it).
+Mesh2 delaunay_triangulation(std::vector<Point2>&& points);
 
 // In-circle test with the tie-break above: true when the edge of half-edge e
 // must be flipped to make the mesh the perturbed Delaunay triangulation.

@@ -72,7 +72,9 @@ void BandedMeshes::make_next() {
   for (;;) {
     band->top = std::max(0, band->first - margin_);
     bottom = std::min(H, band->end + margin_);
-    BandMesh made = make_(band->top, bottom);
+    band->values.assign(src_.pixels.begin() + static_cast<std::ptrdiff_t>(src_.index(0, band->top)),
+                        src_.pixels.begin() + static_cast<std::ptrdiff_t>(src_.index(0, bottom)));
+    BandMesh made = make_(band->top, bottom, band->values);
     span = span_over(made.mesh, band->first, band->end);
     const int needed = band_margin_needed(made.phases, region_rows_) + span + 1;
     const bool top_holds = band->top == 0 || band->first - band->top >= needed;
@@ -87,8 +89,6 @@ void BandedMeshes::make_next() {
   band->vertices = static_cast<index_t>(band->mesh.points.size());
   if (band->vertices != static_cast<index_t>(W) * (bottom - band->top))
     throw Error("the consistent reconstruction: a band's mesh is not its rows' pixel grid");
-  band->values.assign(src_.pixels.begin() + static_cast<std::ptrdiff_t>(src_.index(0, band->top)),
-                      src_.pixels.begin() + static_cast<std::ptrdiff_t>(src_.index(0, bottom)));
   band->out_first = output_row_of(band->first, H, grid_.height);
   band->out_end = output_row_of(band->end, H, grid_.height);
   band->plan.emplace(band->mesh, grid_);

@@ -31,7 +31,8 @@ struct BandMesh {
   Mesh2 mesh;      // of input rows [top, bottom): vertex v is pixel (v % W, top + v / W)
   int phases = 0;  // the optimizer's phases
 };
-using MakeBandMesh = std::function<BandMesh(int top, int bottom)>;
+// rows: the input's rows [top, bottom), W C floats a row.
+using MakeBandMesh = std::function<BandMesh(int top, int bottom, const std::vector<float>& rows)>;
 
 class BandedMeshes final : public WavefrontMeshes {
  public:

@@ -98,7 +98,7 @@ Mesh2 band_mesh(const std::vector<float>& values, int W, int C, const Band& band
     tbb::parallel_for(band.top, band.bottom, [&](int y) {
       for (int x = 0; x < W; ++x) points[static_cast<std::size_t>(y - band.top) * W + x] = {x + 0.5, y + 0.5};
     });
-    mesh = delaunay_triangulation(points);
+    mesh = delaunay_triangulation(std::move(points));
   }
   const double seconds_triangulate = seconds_since(t0);
   local.seconds_triangulate += seconds_triangulate;
@@ -308,10 +308,8 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
     if (mesh_band_rows > 0) {
       const StageRunner quiet(nullptr, nullptr);
       int made = 0;
-      auto make = [&](int top, int bottom) {
+      auto make = [&](int top, int bottom, const std::vector<float>& rows) {
         const auto t = Clock::now();
-        const std::vector<float> rows(values.begin() + static_cast<std::ptrdiff_t>(src.index(0, top)),
-                                      values.begin() + static_cast<std::ptrdiff_t>(src.index(0, bottom)));
         LawsonStats band_ls;
         BandMesh made_band;
         made_band.mesh = band_mesh(rows, W, C, Band{top, bottom, 0, 0}, options, cost, drive, region_triangles,

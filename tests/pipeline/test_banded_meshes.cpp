@@ -44,7 +44,9 @@ TEST_CASE("BandedMeshes: surfaces and added renders are the one mesh's, drawn a 
 
   int made = 0;
   // Margin 3 is too narrow for 4-row regions: every cut band is made again, wider.
-  BandedMeshes meshes(src, grid, 20, 4, 3, [&](int top, int bottom) {
+  BandedMeshes meshes(src, grid, 20, 4, 3, [&](int top, int bottom, const std::vector<float>& rows) {
+    CHECK(rows.size() == static_cast<std::size_t>(W) * C * (bottom - top));
+    CHECK(rows.front() == src.at(0, top, 0));
     ++made;
     return BandMesh{rows_mesh(W, top, bottom), 0};
   });
@@ -86,7 +88,7 @@ TEST_CASE("BandedMeshes: a band's mesh that is not its rows' pixel grid is an er
   grid.width = 2 * W;
   grid.height = 2 * H;
   grid.scale_x = grid.scale_y = 2;
-  BandedMeshes meshes(src, grid, 20, 4, 30, [&](int top, int bottom) {
+  BandedMeshes meshes(src, grid, 20, 4, 30, [&](int top, int bottom, const std::vector<float>&) {
     return BandMesh{rows_mesh(W, top, bottom - 1), 0};  // a row short
   });
   CHECK_THROWS_WITH_AS(meshes.prepare(0), doctest::Contains("not its rows' pixel grid"), Error);
