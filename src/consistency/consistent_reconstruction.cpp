@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 namespace ddt {
@@ -237,12 +238,14 @@ class OneMesh final : public WavefrontMeshes {
     if (gradients) render_mesh_into(into, at, *plan_, values_, C_, first, end - first, *gradients, stats);
     else render_mesh_into(into, at, *plan_, values_, C_, first, end - first, stats);
   }
-  void add(Image& into, int at, int first, int end, const VertexValues& values) override {
-    if (slides()) return add_mesh_render_into(into, at, *plan_, values, C_, first, end - first);
+  void add(Image& into, int at, int first, int end, const std::vector<float>& rows, index_t first_vertex,
+           index_t end_vertex) override {
+    if (slides())
+      return add_mesh_render_into(into, at, *plan_, VertexValues{rows.data(), first_vertex, end_vertex}, C_, first,
+                                  end - first);
     // A mesh without triangles or with a hull not convex reads every value.
-    if (values.first != 0 || values.end < vertices_) throw Error("the consistent reconstruction: values missing");
-    const std::vector<float> all(values.data, values.data + static_cast<std::size_t>(vertices_) * C_);
-    add_mesh_render_into(into, at, *plan_, all, C_, first, end - first);
+    if (first_vertex != 0 || end_vertex < vertices_) throw Error("the consistent reconstruction: values missing");
+    add_mesh_render_into(into, at, *plan_, rows, C_, first, end - first);
   }
   void release(int row) override {
     if (row >= height_) plan_.reset();
@@ -437,9 +440,8 @@ void make_consistent_streamed(int out_width, int out_height, WavefrontMeshes& me
         // The rows written: reading another is an error, not a stale value
         // (kept whole, from row 0, for a mesh without triangles or with a
         // hull not convex).
-        const VertexValues held{rows.values.data(), index_t(rows.origin) * W,
-                                slide ? index_t(residual_done[k]) * W : index_t(H) * W};
-        meshes.add(window, first - window_origin, first, row_of[ready], held);
+        meshes.add(window, first - window_origin, first, row_of[ready], rows.values, index_t(rows.origin) * W,
+                   slide ? index_t(residual_done[k]) * W : index_t(H) * W);
         stepped[k + 1] = ready;
       }
     }
@@ -497,14 +499,19 @@ void make_consistent_streamed(int out_width, int out_height, WavefrontMeshes& me
   if (stats) *stats = local;
 }
 
-int triangle_rows(const Mesh2& mesh) {
+int triangle_rows(const Mesh2& mesh, int first, int end) {
   int span = 0;
   for (std::size_t t = 0; t + 2 < mesh.tri.size(); t += 3) {
     const double y0 = mesh.points[mesh.tri[t]].y, y1 = mesh.points[mesh.tri[t + 1]].y,
                  y2 = mesh.points[mesh.tri[t + 2]].y;
-    span = std::max(span, static_cast<int>(std::ceil(std::max({y0, y1, y2}) - std::min({y0, y1, y2}))));
+    const double lo = std::min({y0, y1, y2}), hi = std::max({y0, y1, y2});
+    if (hi >= first && lo <= end) span = std::max(span, static_cast<int>(std::ceil(hi - lo)));
   }
   return span;
+}
+
+int triangle_rows(const Mesh2& mesh) {
+  return triangle_rows(mesh, std::numeric_limits<int>::min(), std::numeric_limits<int>::max());
 }
 
 int consistency_margin_needed(int span, const AcquisitionModel& model, int W, int H, int out_w, int out_h,

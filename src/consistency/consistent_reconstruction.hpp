@@ -122,8 +122,12 @@ class WavefrontMeshes {
   // The rendered surface of output rows [first, end) (prepared), cubic
   // where `gradients` is set, into `into`'s rows from `at`.
   virtual void draw(Image& into, int at, int first, int end, const VertexValues* gradients, RenderStats* stats) = 0;
-  // The linear surface of `values` added into output rows [first, end).
-  virtual void add(Image& into, int at, int first, int end, const VertexValues& values) = 0;
+  // The linear surface of vertex values added into output rows [first,
+  // end): `rows` holds those of vertices [first_vertex, end_vertex) (C a
+  // vertex, from rows[0]); where the meshes do not slide, every vertex's,
+  // from vertex 0.
+  virtual void add(Image& into, int at, int first, int end, const std::vector<float>& rows, index_t first_vertex,
+                   index_t end_vertex) = 0;
   // Output rows before `row` are drawn no more.
   virtual void release(int row) = 0;
 };
@@ -158,8 +162,10 @@ void make_consistent_streamed(int out_width, int out_height, WavefrontMeshes& me
 // band mesh's triangles span at most triangle_rows rows (triangle_rows()).
 int consistency_margin_needed(int triangle_rows, const AcquisitionModel& model, int width, int height, int out_width,
                               int out_height, int mesh_steps = ConsistencyOptions{}.mesh_steps);
-// The most rows a triangle of the mesh spans.
+// The most rows a triangle of the mesh spans; with a range, of the
+// triangles that reach input rows [first, end] (vertex y is its row + 0.5).
 int triangle_rows(const Mesh2& mesh);
+int triangle_rows(const Mesh2& mesh, int first, int end);
 // What to plan a band's margin for before its mesh is made: optimized
 // meshes of Set14's photographs spanned 5 to 13 rows (docs/consistency.md);
 // a band whose mesh spans more is redone or refused with the width needed.

@@ -437,9 +437,7 @@ LawsonStats optimize_lawson(Mesh2& mesh, const std::vector<float>& values, int K
     auto go = [&](const auto& evaluator) {
       optimize_with(run, evaluator, stats);
       if (stats.iterations == 0)  // no phase ran (max_iterations <= 0): nothing filled
-        stats.cost_before = stats.cost_after = chunked_sum(mesh.half_edge_count(), [&](index_t e) {
-          return mesh.opp[e] == no_edge || mesh.opp[e] < e ? 0.0 : evaluator.edge_term(e);
-        });
+        stats.cost_before = stats.cost_after = total_cost(mesh, values, K, cost);
     };
     switch (K) {
       case 1: go(SederbergEvaluator<1>{mesh, z, K, weighted, geometry, tol}); break;

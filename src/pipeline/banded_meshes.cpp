@@ -4,7 +4,6 @@
 #include "util/error.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <optional>
 #include <string>
 
@@ -21,19 +20,6 @@ struct BandedMeshes::Band {
 };
 
 namespace {
-
-// The most input rows spanned by a triangle over input rows [first, end]
-// (vertex y is its row + 0.5): those that draw the band's output rows.
-int span_over(const Mesh2& mesh, int first, int end) {
-  int span = 0;
-  for (std::size_t t = 0; t + 2 < mesh.tri.size(); t += 3) {
-    const double y0 = mesh.points[mesh.tri[t]].y, y1 = mesh.points[mesh.tri[t + 1]].y,
-                 y2 = mesh.points[mesh.tri[t + 2]].y;
-    const double lo = std::min({y0, y1, y2}), hi = std::max({y0, y1, y2});
-    if (hi >= first && lo <= end) span = std::max(span, static_cast<int>(std::ceil(hi - lo)));
-  }
-  return span;
-}
 
 // Rows [first, end) lie in the bands held: a draw never leaves rows unset.
 template <class Bands>
@@ -75,7 +61,7 @@ void BandedMeshes::make_next() {
     band->values.assign(src_.pixels.begin() + static_cast<std::ptrdiff_t>(src_.index(0, band->top)),
                         src_.pixels.begin() + static_cast<std::ptrdiff_t>(src_.index(0, bottom)));
     BandMesh made = make_(band->top, bottom, band->values);
-    span = span_over(made.mesh, band->first, band->end);
+    span = ddt::triangle_rows(made.mesh, band->first, band->end);  // those that draw the band's rows
     const int needed = band_margin_needed(made.phases, region_rows_) + span + 1;
     const bool top_holds = band->top == 0 || band->first - band->top >= needed;
     const bool bottom_holds = bottom == H || bottom - band->end >= needed;
@@ -150,8 +136,10 @@ void BandedMeshes::draw(Image& into, int at, int first, int end, const VertexVal
   }
 }
 
-void BandedMeshes::add(Image& into, int at, int first, int end, const VertexValues& values) {
+void BandedMeshes::add(Image& into, int at, int first, int end, const std::vector<float>& rows,
+                       index_t first_vertex, index_t end_vertex) {
   const int C = src_.channels;
+  const VertexValues values{rows.data(), first_vertex, end_vertex};
   check_held(bands_, first, end);
   for (const auto& owned : bands_) {
     const Band& band = *owned;

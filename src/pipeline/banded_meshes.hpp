@@ -48,7 +48,8 @@ class BandedMeshes final : public WavefrontMeshes {
   bool slides() const override { return true; }
   int window_boundary(int row) const override;
   void draw(Image& into, int at, int first, int end, const VertexValues* gradients, RenderStats* stats) override;
-  void add(Image& into, int at, int first, int end, const VertexValues& values) override;
+  void add(Image& into, int at, int first, int end, const std::vector<float>& rows, index_t first_vertex,
+           index_t end_vertex) override;
   void release(int row) override;
 
   int bands_made() const { return made_; }

@@ -191,8 +191,7 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
   // meshes made a band at a time too.
   const bool wavefront = consistent && whole && options.output_rows &&
                          make_consistent_streams(options.model, W, image_height, out_width, out_height);
-  const int mesh_band_rows =
-      wavefront ? wavefront_band_rows(image_height, region_rows, planned_mesh_band_margin(region_rows), options) : 0;
+  const int mesh_band_rows = wavefront ? wavefront_mesh_band_rows(W, image_height, out_width, out_height, options) : 0;
   LawsonStats ls;
   Mesh2 mesh;
   if (mesh_band_rows == 0)

@@ -58,7 +58,7 @@ TEST_CASE("BandedMeshes: surfaces and added renders are the one mesh's, drawn a 
     const int cut = std::min(ready, row + 17);
     meshes.draw(linear, row, row, cut, nullptr, nullptr);
     meshes.draw(cubic, row, row, cut, &all_gradients, nullptr);
-    meshes.add(added, row, row, cut, all_values);
+    meshes.add(added, row, row, cut, src.pixels, 0, W * H);
     meshes.release(row);
     row = cut;
   }
@@ -78,7 +78,7 @@ TEST_CASE("BandedMeshes: surfaces and added renders are the one mesh's, drawn a 
 
   // Rows of a band released are refused, not left unset.
   CHECK_THROWS_AS(meshes.draw(linear, 0, 0, 10, nullptr, nullptr), Error);
-  CHECK_THROWS_AS(meshes.add(added, 0, 0, 10, all_values), Error);
+  CHECK_THROWS_AS(meshes.add(added, 0, 0, 10, src.pixels, 0, W * H), Error);
 }
 
 TEST_CASE("BandedMeshes: a band's mesh that is not its rows' pixel grid is an error") {
