@@ -227,8 +227,8 @@ struct SlidingRows {
 // The whole image's one mesh.
 class OneMesh final : public WavefrontMeshes {
  public:
-  OneMesh(const Mesh2& mesh, const std::vector<float>& values, int C, const RenderGrid& grid)
-      : values_(values), C_(C), height_(grid.height), plan_(std::in_place, mesh, grid),
+  OneMesh(const Mesh2& mesh, const std::vector<float>& values, int C, int input_rows, const RenderGrid& grid)
+      : values_(values), C_(C), height_(grid.height), input_rows_(input_rows), plan_(std::in_place, mesh, grid),
         reach_(ddt::triangle_rows(mesh)), vertices_(static_cast<index_t>(mesh.points.size())) {}
   int prepare(int) override { return height_; }
   int triangle_rows() const override { return reach_; }
@@ -250,10 +250,12 @@ class OneMesh final : public WavefrontMeshes {
   void release(int row) override {
     if (row >= height_) plan_.reset();
   }
+  // The one mesh is made: it reads no input rows.
+  int first_input_row() const override { return input_rows_; }
 
  private:
   const std::vector<float>& values_;
-  int C_, height_;
+  int C_, height_, input_rows_;
   std::optional<RenderPlan> plan_;
   int reach_;
   index_t vertices_;
@@ -279,25 +281,28 @@ void make_consistent_streamed(int out_width, int out_height, const std::vector<f
   }
   check_problem(mesh, src);
   const auto t = std::chrono::steady_clock::now();
-  OneMesh one(mesh, values, C, surface_grid);
+  OneMesh one(mesh, values, C, H, surface_grid);
   const double plan_seconds = seconds_since(t);
-  make_consistent_streamed(out_width, out_height, one, gradients, src, options, stats, render_stats);
+  InputRows input(src);
+  make_consistent_streamed(out_width, out_height, one, gradients, input, options, stats, render_stats);
   if (stats) stats->seconds_operator += plan_seconds;
 }
 
 void make_consistent_streamed(int out_width, int out_height, WavefrontMeshes& meshes, const GradientRows& gradients,
-                              const Image& src, const ConsistencyOptions& options, ConsistencyStats* stats,
+                              InputRows& input, const ConsistencyOptions& options, ConsistencyStats* stats,
                               RenderStats* render_stats) {
   if (!options.output_rows) throw Error("the consistent reconstruction: nowhere to hand the rows");
   if (options.band.image_height > 0 || options.band.out_height > 0)
     throw Error("the consistent reconstruction: a streamed surface is the whole image's");
-  const int W = src.width, H = src.height, C = src.channels;
+  const int W = input.width(), H = input.height(), C = input.channels();
   if (!make_consistent_streams(options.model, W, H, out_width, out_height))
     throw Error("the consistent reconstruction: this model and scale do not stream");
   if (C > max_channels) throw Error("the consistent reconstruction takes at most 16 channels");
+  if (!options.statistics && !input.whole())
+    throw Error("the consistent reconstruction: an input read by rows needs the whole input's statistics");
   double surface_seconds = 0;
   InputStatistics own;
-  const InputStatistics& statistics = statistics_of(options, src, own);
+  const InputStatistics& statistics = options.statistics ? *options.statistics : statistics_of(options, *input.whole(), own);
   ConsistencyStats local;
   auto t0 = std::chrono::steady_clock::now();
   const Acquisition acquisition(options.model, W, H, out_width, out_height);
@@ -414,6 +419,8 @@ void make_consistent_streamed(int out_width, int out_height, WavefrontMeshes& me
       if (stepped[k] > residual_done[k]) {
         const int a = residual_done[k], b = stepped[k];
         acquisition.apply(window, window_origin, a, b, acquired);
+        int top = 0;
+        const float* const src_rows = input.rows(a, b, top).pixels.data() + row_size * (a - top);
         if (k == K) last_residual.make_room(b, keep);
         else step_values[k].make_room(b, std::max(0, stepped[k + 1] - 2 * mesh_reach));
         std::vector<double> row_max(b - a, 0.0);
@@ -422,8 +429,7 @@ void make_consistent_streamed(int out_width, int out_height, WavefrontMeshes& me
         tbb::parallel_for(a, b, [&](int y) {
           const std::size_t first = row_size * (y - a);
           for (std::size_t i = first; i < first + row_size; ++i) {
-            const std::size_t at = row_size * a + i;
-            const double r = double(src.pixels[at]) - acquired[i];
+            const double r = double(src_rows[i]) - acquired[i];
             row_max[y - a] = std::max(row_max[y - a], std::abs(r));
             if (k < K) next_step[i] = static_cast<float>(r);
             else last[i] = r;
@@ -479,8 +485,11 @@ void make_consistent_streamed(int out_width, int out_height, WavefrontMeshes& me
     t = std::chrono::steady_clock::now();
     const int finishable = solved == H ? H : std::max(finished, solved - 1);
     if (finishable > finished) {
-      // The last steps as make_consistent's, on the window's rows.
-      const RowBand band{0, H, window_origin, out_height};
+      // The last steps as make_consistent's, on the window's rows; they
+      // read the input's 5x5 around each footprint.
+      int top = 0;
+      const Image& src = input.rows(std::max(0, finished - 2), std::min(H, finishable + 2), top);
+      const RowBand band{top, H, window_origin, out_height};
       grid.add_to(window, delta.values, row_of[finished], row_of[finishable], window_origin, delta.origin);
       if (options.step_edges)
         local.step_edge_footprints += StepEdgeRenderer(src, statistics, band).render(window, finished, finishable);
@@ -489,6 +498,7 @@ void make_consistent_streamed(int out_width, int out_height, WavefrontMeshes& me
       for (int first = row_of[finished]; first < row_of[finishable]; first += band_out_rows)
         hand_out(window, window_origin, first, std::min(row_of[finishable], first + band_out_rows), options);
       finished = finishable;
+      input.release(std::min(finished - 2, meshes.first_input_row()));
       if (options.progress) options.progress->set(finished);
     }
     finish_seconds += seconds_since(t);

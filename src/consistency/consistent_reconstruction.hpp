@@ -47,6 +47,7 @@
 #include "consistency/footprints.hpp"
 #include "consistency/input_statistics.hpp"
 #include "util/image.hpp"
+#include "util/input_rows.hpp"
 #include "image/mesh.hpp"
 #include "image/rasterizer.hpp"
 #include "util/progress.hpp"
@@ -130,6 +131,9 @@ class WavefrontMeshes {
                    index_t end_vertex) = 0;
   // Output rows before `row` are drawn no more.
   virtual void release(int row) = 0;
+  // The first input row the meshes still to be made read (the height when
+  // they read none), so that the input's rows before it can be dropped.
+  virtual int first_input_row() const = 0;
 };
 
 // As make_consistent on the whole image, with the rendered surface (mesh
@@ -151,9 +155,12 @@ void make_consistent_streamed(int out_width, int out_height, const std::vector<f
 bool make_consistent_streams(const AcquisitionModel& model, int width, int height, int out_width, int out_height);
 // The wavefront on meshes of the caller's, where make_consistent_streams()
 // (else a ddt::Error). Growing meshes.triangle_rows() as bands are made
-// only widens the rows held.
+// only widens the rows held. The input is read through `input` a window of
+// rows at a time, released behind the last steps (and before the next
+// mesh band's rows); unless it is held whole, options.statistics is
+// required.
 void make_consistent_streamed(int out_width, int out_height, WavefrontMeshes& meshes, const GradientRows& gradients,
-                              const Image& src, const ConsistencyOptions& options, ConsistencyStats* stats = nullptr,
+                              InputRows& input, const ConsistencyOptions& options, ConsistencyStats* stats = nullptr,
                               RenderStats* render_stats = nullptr);
 
 // Input rows of margin a band needs on a cut side, beyond those its mesh

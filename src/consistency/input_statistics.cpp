@@ -44,4 +44,22 @@ InputStatistics merge(const InputStatistics& a, const InputStatistics& b) {
   return s;
 }
 
+InputStatistics input_statistics(const RowSource& source, Progress* progress) {
+  constexpr int chunk = 256;
+  if (source.width <= 0 || source.height <= 0) throw Error("input statistics of an empty image");
+  if (progress) progress->begin("statistics", source.height);
+  InputStatistics all;
+  Image rows(source.width, std::min(chunk, source.height), source.channels);
+  for (int first = 0; first < source.height; first += chunk) {
+    const int end = std::min(source.height, first + chunk);
+    rows.height = end - first;
+    rows.pixels.resize(static_cast<std::size_t>(source.width) * source.channels * rows.height);
+    source.read(first, end, rows.pixels.data());
+    const InputStatistics part = input_statistics(rows);
+    all = first == 0 ? part : merge(all, part);
+    if (progress) progress->set(end);
+  }
+  return all;
+}
+
 }  // namespace ddt

@@ -7,6 +7,8 @@
 // that every part decides as the whole image does.
 
 #include "util/image.hpp"
+#include "util/input_rows.hpp"
+#include "util/progress.hpp"
 
 #include <vector>
 
@@ -21,6 +23,9 @@ struct InputStatistics {
 
 // Errors: throws ddt::Error for an empty image.
 InputStatistics input_statistics(const Image& image);
+// The whole source's, read top to bottom in chunks of rows (a stage
+// "statistics" of the progress, when given). Throws the source's errors.
+InputStatistics input_statistics(const RowSource& source, Progress* progress = nullptr);
 
 // The statistics of the union of two parts of an image (same channels).
 InputStatistics merge(const InputStatistics& a, const InputStatistics& b);

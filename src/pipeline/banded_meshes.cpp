@@ -41,15 +41,16 @@ VertexValues in_band(const VertexValues& w, index_t offset, index_t vertices, in
 
 }  // namespace
 
-BandedMeshes::BandedMeshes(const Image& src, const RenderGrid& grid, int band_rows, int region_rows, int margin,
+BandedMeshes::BandedMeshes(InputRows& input, const RenderGrid& grid, int band_rows, int region_rows, int margin,
                            MakeBandMesh make)
-    : src_(src), grid_(grid), band_rows_(std::max(1, band_rows)), region_rows_(region_rows),
+    : input_(input), grid_(grid), band_rows_(std::max(1, band_rows)), region_rows_(region_rows),
       margin_(std::max(0, margin)), make_(std::move(make)) {}
 
 BandedMeshes::~BandedMeshes() = default;
 
 void BandedMeshes::make_next() {
-  const int W = src_.width, H = src_.height;
+  const int W = input_.width(), H = input_.height();
+  const std::size_t row_floats = static_cast<std::size_t>(W) * input_.channels();
   auto band = std::make_unique<Band>();
   band->first = next_first_;
   band->end = std::min(H, band->first + band_rows_);
@@ -58,8 +59,10 @@ void BandedMeshes::make_next() {
   for (;;) {
     band->top = std::max(0, band->first - margin_);
     bottom = std::min(H, band->end + margin_);
-    band->values.assign(src_.pixels.begin() + static_cast<std::ptrdiff_t>(src_.index(0, band->top)),
-                        src_.pixels.begin() + static_cast<std::ptrdiff_t>(src_.index(0, bottom)));
+    int held_top = 0;
+    const Image& held = input_.rows(band->top, bottom, held_top);
+    band->values.assign(held.pixels.begin() + static_cast<std::ptrdiff_t>(row_floats * (band->top - held_top)),
+                        held.pixels.begin() + static_cast<std::ptrdiff_t>(row_floats * (bottom - held_top)));
     BandMesh made = make_(band->top, bottom, band->values);
     span = ddt::triangle_rows(made.mesh, band->first, band->end);  // those that draw the band's rows
     const int needed = band_margin_needed(made.phases, region_rows_) + span + 1;
@@ -105,7 +108,7 @@ int BandedMeshes::window_boundary(int row) const {
 }
 
 void BandedMeshes::draw(Image& into, int at, int first, int end, const VertexValues* gradients, RenderStats* stats) {
-  const int C = src_.channels;
+  const int C = input_.channels();
   const std::ptrdiff_t row_floats = static_cast<std::ptrdiff_t>(grid_.width) * C;
   check_held(bands_, first, end);
   RenderStats local;
@@ -113,7 +116,7 @@ void BandedMeshes::draw(Image& into, int at, int first, int end, const VertexVal
     const Band& band = *owned;
     const int f = std::max(first, band.out_first), e = std::min(end, band.out_end);
     if (f >= e) continue;
-    const index_t offset = static_cast<index_t>(band.top) * src_.width;
+    const index_t offset = static_cast<index_t>(band.top) * input_.width();
     const std::optional<VertexValues> slopes =
         gradients ? std::optional<VertexValues>(in_band(*gradients, offset, band.vertices, 2 * C)) : std::nullopt;
     // Where [f, e) cuts a group of the band's rows, the groups around it
@@ -138,20 +141,25 @@ void BandedMeshes::draw(Image& into, int at, int first, int end, const VertexVal
 
 void BandedMeshes::add(Image& into, int at, int first, int end, const std::vector<float>& rows,
                        index_t first_vertex, index_t end_vertex) {
-  const int C = src_.channels;
+  const int C = input_.channels();
   const VertexValues values{rows.data(), first_vertex, end_vertex};
   check_held(bands_, first, end);
   for (const auto& owned : bands_) {
     const Band& band = *owned;
     const int f = std::max(first, band.out_first), e = std::min(end, band.out_end);
     if (f >= e) continue;
-    const index_t offset = static_cast<index_t>(band.top) * src_.width;
+    const index_t offset = static_cast<index_t>(band.top) * input_.width();
     add_mesh_render_into(into, at + (f - first), *band.plan, in_band(values, offset, band.vertices, C), C, f, e - f);
   }
 }
 
 void BandedMeshes::release(int row) {
   while (!bands_.empty() && bands_.front()->out_end <= row) bands_.pop_front();
+}
+
+int BandedMeshes::first_input_row() const {
+  const int H = input_.height();
+  return next_first_ < H ? std::max(0, next_first_ - margin_) : H;
 }
 
 }  // namespace ddt

@@ -36,10 +36,10 @@ using MakeBandMesh = std::function<BandMesh(int top, int bottom, const std::vect
 
 class BandedMeshes final : public WavefrontMeshes {
  public:
-  // src: the whole input (each band keeps a copy of its rows); grid: the
-  // surface's output grid; band_rows: input rows a band draws; margin: the
-  // margin tried first.
-  BandedMeshes(const Image& src, const RenderGrid& grid, int band_rows, int region_rows, int margin,
+  // input: the whole input's rows (each band keeps a copy of its own);
+  // grid: the surface's output grid; band_rows: input rows a band draws;
+  // margin: the margin tried first.
+  BandedMeshes(InputRows& input, const RenderGrid& grid, int band_rows, int region_rows, int margin,
                MakeBandMesh make);
   ~BandedMeshes() override;
 
@@ -51,6 +51,7 @@ class BandedMeshes final : public WavefrontMeshes {
   void add(Image& into, int at, int first, int end, const std::vector<float>& rows, index_t first_vertex,
            index_t end_vertex) override;
   void release(int row) override;
+  int first_input_row() const override;
 
   int bands_made() const { return made_; }
   int bands_redone() const { return redone_; }
@@ -62,7 +63,7 @@ class BandedMeshes final : public WavefrontMeshes {
   void make_next();
   const Band& band_at(int row) const;
 
-  const Image& src_;
+  InputRows& input_;
   RenderGrid grid_;
   int band_rows_, region_rows_, margin_;
   MakeBandMesh make_;

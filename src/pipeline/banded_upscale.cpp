@@ -13,24 +13,6 @@
 namespace ddt {
 namespace {
 
-// The whole source's statistics, read in chunks of rows.
-InputStatistics statistics_of(const RowSource& source, Progress* progress) {
-  constexpr int chunk = 256;
-  if (progress) progress->begin("statistics", source.height);
-  InputStatistics all;
-  Image rows(source.width, std::min(chunk, source.height), source.channels);
-  for (int first = 0; first < source.height; first += chunk) {
-    const int end = std::min(source.height, first + chunk);
-    rows.height = end - first;
-    rows.pixels.resize(static_cast<std::size_t>(source.width) * source.channels * rows.height);
-    source.read(first, end, rows.pixels.data());
-    const InputStatistics part = input_statistics(rows);
-    all = first == 0 ? part : merge(all, part);
-    if (progress) progress->set(end);
-  }
-  return all;
-}
-
 // A band's output rows to the receiver: whole, or in parts of
 // options.output_band_rows rows where that is set.
 void hand_out(Image rows, int first_row, const UpscaleOptions& options) {
@@ -97,7 +79,7 @@ UpscaleStats upscale_banded(const RowSource& source, int out_width, int out_heig
   check_memory_fits("a band of " + std::to_string(band_rows) + " rows with " + std::to_string(margin) +
                         " rows of margin each side",
                     banded_bytes(W, H, C, out_width, out_height, band_rows, margin));
-  const InputStatistics statistics = consistent ? statistics_of(source, progress) : InputStatistics{};
+  const InputStatistics statistics = consistent ? input_statistics(source, progress) : InputStatistics{};
   if (progress) progress->begin("bands", H);
   UpscaleStats total;
   const std::size_t row_floats = static_cast<std::size_t>(W) * C;

@@ -17,18 +17,11 @@
 
 #include "ddtscale/ddtscale.hpp"
 #include "util/image.hpp"
+#include "util/input_rows.hpp"  // RowSource
 
 #include <functional>
 
 namespace ddt {
-
-// Rows [first, end) of an image of width x height x channels, into `rows`
-// (width * channels floats a row). Called with increasing ranges, and
-// again from the top for the second pass (or for rows a band lost).
-struct RowSource {
-  int width = 0, height = 0, channels = 0;
-  std::function<void(int first, int end, float* rows)> read;
-};
 
 // The rows of margin a band needs each side (the optimizer's regions and
 // the consistent reconstruction's reach).

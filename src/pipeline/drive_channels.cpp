@@ -9,8 +9,12 @@
 namespace ddt {
 
 DriveChannels drive_channels(const Image& src, const UpscaleOptions& options) {
+  return drive_channels(src.channels, options);
+}
+
+DriveChannels drive_channels(int channels, const UpscaleOptions& options) {
   DriveChannels d;
-  for (int c = 0; c < src.channels; ++c)
+  for (int c = 0; c < channels; ++c)
     if (c != options.alpha_channel) d.colour.push_back(c);
   if (options.luma_cost && d.colour.size() >= 3) {
     d.luma = true;
@@ -22,7 +26,7 @@ DriveChannels drive_channels(const Image& src, const UpscaleOptions& options) {
                 std::to_string(d.colour.size()) + " (use --cost-channel luma)");
   if (d.colour.empty()) d.colour.push_back(0);  // alpha alone: let it drive
   d.K = static_cast<int>(d.colour.size());
-  d.identity = d.K == src.channels;
+  d.identity = d.K == channels;
   return d;
 }
 

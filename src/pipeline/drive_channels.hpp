@@ -28,6 +28,7 @@ inline float luma_601(float r, float g, float b) { return 0.299f * r + 0.587f * 
 // options.luma_cost and there are three or more.
 // Throws ddt::Error when there are more colour channels than a cost takes.
 DriveChannels drive_channels(const Image& src, const UpscaleOptions& options);
+DriveChannels drive_channels(int channels, const UpscaleOptions& options);
 
 // Drive values of n samples of C channels: n by d.K, row-major.
 std::vector<float> drive_values(const float* pixels, std::size_t n, int C, const DriveChannels& d);

@@ -71,10 +71,15 @@ double upscale_job_bytes(int width, int height, int channels, int out_width, int
   const bool wavefront = streamed && make_consistent_streams(options.model, width, height, out_width, out_height);
   const double held_rows = bands ? 2048.0 : wavefront ? 256.0 * out_height / height : double(out_height);
   const double out_pixels = std::min(double(out_width) * out_height, held_rows * out_width);
-  const double images = 4.0 * channels * (in_pixels + out_pixels * output_images);
   const bool tiled = options.optimizer == Optimizer::lawson && options.tile_rows >= 0;
   const int mesh_bands =
       wavefront ? wavefront_mesh_band_rows(width, height, out_width, out_height, options) : 0;
+  // Read by rows, the input held is a window of about two mesh bands.
+  const double held_input =
+      streamed && upscale_reads_by_rows(width, height, channels, out_width, out_height, options)
+          ? std::min(in_pixels, 3.0 * mesh_bands * width)
+          : in_pixels;
+  const double images = 4.0 * channels * (held_input + out_pixels * output_images);
   const double mesh = mesh_bands > 0 ? wavefront_mesh_bytes(width, height, channels, out_width, out_height,
                                                             mesh_bands, options)
                                      : 200.0 * in_pixels;
@@ -168,29 +173,39 @@ FileUpscaleResult upscale_file(FileUpscaleJob job) {
   auto reader = read_step([&] { return std::make_unique<ImageRowReader>(job.input, limits); });
   ImageFile file;
   std::unique_ptr<ImageBandWriter> writer;
-  if (banded) {
-    const ImageHeader header = reader->header();
+  const ImageHeader header = reader->header();
+  const bool by_rows = !banded && job.stream &&
+                       upscale_reads_by_rows(header.width, header.height, header.channels, result.width,
+                                             result.height, options);
+  if (banded || by_rows) {
     warn_of_pages(job, reader->file().pages);
     options.alpha_channel = header.alpha_channel;
     const OIIO::ParamValueList metadata = scaled_metadata(reader->file().metadata, double(result.width) / header.width,
                                                           double(result.height) / header.height);
     writer = stream_into(job, result, options, header.channels, header.format, header.alpha_channel, metadata);
-    const double budget = options.max_memory > 0 ? limited_band_budget(options.max_memory, double(resident_memory()))
-                                                 : 0.5 * double(available_memory());
-    const int band_rows = options.tile_rows > 0 ? options.tile_rows
-                                                : banded_rows(header.width, header.height, header.channels,
-                                                              result.width, result.height, options, budget);
-    log_line(options, "read by bands of " + std::to_string(band_rows) + " rows: " + job.input + ", " +
-                          std::to_string(header.width) + "x" + std::to_string(header.height) + "x" +
-                          std::to_string(header.channels));
     ImageRowReader& rows = *reader;
     const RowSource source{header.width, header.height, header.channels,
                            [&rows](int first, int end, float* p) { file_step([&] { rows.read(first, end, p); }); }};
-    result.stats = upscale_banded(source, result.width, result.height, options, band_rows);
-    result.bands = result.stats.tiles;
-    log_line(options, "bands: " + std::to_string(result.stats.tiles) + ", margin " +
-                          std::to_string(result.stats.tile_margin) + " rows, " + std::to_string(seconds_since(t0)) +
-                          " s");
+    const std::string size =
+        std::to_string(header.width) + "x" + std::to_string(header.height) + "x" + std::to_string(header.channels);
+    if (by_rows) {
+      // One pass down the image, its input read a window of rows at a time.
+      log_line(options, "read by rows: " + job.input + ", " + size);
+      result.stats = upscale_by_rows(source, result.width, result.height, options);
+    } else {
+      const double budget = options.max_memory > 0
+                                ? limited_band_budget(options.max_memory, double(resident_memory()))
+                                : 0.5 * double(available_memory());
+      const int band_rows = options.tile_rows > 0 ? options.tile_rows
+                                                  : banded_rows(header.width, header.height, header.channels,
+                                                                result.width, result.height, options, budget);
+      log_line(options, "read by bands of " + std::to_string(band_rows) + " rows: " + job.input + ", " + size);
+      result.stats = upscale_banded(source, result.width, result.height, options, band_rows);
+      result.bands = result.stats.tiles;
+      log_line(options, "bands: " + std::to_string(result.stats.tiles) + ", margin " +
+                            std::to_string(result.stats.tile_margin) + " rows, " +
+                            std::to_string(seconds_since(t0)) + " s");
+    }
   } else {
     reader.reset();
     limits.check = [&](const ImageHeader& header) {

@@ -162,27 +162,30 @@ int planned_mesh_band_margin(int region_rows) { return 2 * region_rows + 8 + pla
 
 // Triangulates, optimizes and renders one band of input rows into `out`.
 // Returns the optimizer's statistics (phases in `iterations`).
-// `src` holds rows [src_top, src_top + src.height) of an image of
-// image_height rows; the band lies within them.
-LawsonStats run_band(const Image& src, int src_top, int image_height, const Band& band, int out_width, int out_height,
+// `input` holds rows [src_top, src_top + input.height()) of an image of
+// image_height rows; the band lies within them. An input read by rows
+// (not held whole) takes only the whole image's wavefront from meshes made
+// by bands, with the whole input's `statistics`.
+LawsonStats run_band(InputRows& input, int src_top, int image_height, const Band& band, int out_width, int out_height,
                      const UpscaleOptions& options, const CostFunction& cost, const DriveChannels& drive,
                      long long region_triangles, int region_rows,
                      const std::function<Image&()>& output, UpscaleStats& local,
                      int margin = std::numeric_limits<int>::max(), const InputStatistics* statistics = nullptr,
                      int* margin_needed = nullptr) {
   const StageRunner stages(options.log, options.progress);
-  const int W = src.width, C = src.channels;
+  const int W = input.width(), C = input.channels();
+  const Image* src = input.whole();
   // The whole image, all its output rows (a tile whose margins reach both
   // borders is still a band: it renders only its own rows).
   const bool whole = band.top == 0 && band.bottom == image_height && band.out_first == 0 && band.out_end == out_height;
 
   // The band's samples (the image itself when the band is the image).
   std::vector<float> band_pixels;
-  if (!whole)
+  if (!whole && src)
     band_pixels.assign(
-        src.pixels.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(band.top - src_top) * W * C),
-        src.pixels.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(band.bottom - src_top) * W * C));
-  const std::vector<float>& values = whole ? src.pixels : band_pixels;
+        src->pixels.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(band.top - src_top) * W * C),
+        src->pixels.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(band.bottom - src_top) * W * C));
+  const std::vector<float>& values = whole && src ? src->pixels : band_pixels;
 
   const bool consistent = options.model.kind != AcquisitionModel::Kind::point;
   // The whole image's consistent reconstruction, streamed, draws its
@@ -192,6 +195,8 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
   const bool wavefront = consistent && whole && options.output_rows &&
                          make_consistent_streams(options.model, W, image_height, out_width, out_height);
   const int mesh_band_rows = wavefront ? wavefront_mesh_band_rows(W, image_height, out_width, out_height, options) : 0;
+  if (!src && mesh_band_rows == 0)
+    throw Error("an input read by rows takes the streamed reconstruction from meshes made by bands only");
   LawsonStats ls;
   Mesh2 mesh;
   if (mesh_band_rows == 0)
@@ -226,7 +231,7 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
   RenderGrid grid;
   grid.width = out_width;
   grid.height = out_height;
-  grid.scale_x = static_cast<double>(out_width) / src.width;
+  grid.scale_x = static_cast<double>(out_width) / W;
   grid.scale_y = static_cast<double>(out_height) / image_height;
   grid.first_row = band_image ? first_output_row(band.top, image_height, out_height) : band.out_first;
   grid.rows = band_image ? own_rows.height : band.out_end - band.out_first;
@@ -235,7 +240,7 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
   const bool cubic = options.render == Render::cubic;
   if (cubic && !wavefront) {  // the wavefront makes them a band of rows at a time
     if (whole) {
-      gradients = gradients_of(src, options.slopes);
+      gradients = gradients_of(*src, options.slopes);
     } else {
       Image part(W, band.bottom - band.top, C);
       part.pixels = values;
@@ -302,7 +307,11 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
     co.mesh_done = [&] { mesh = Mesh2(); };
     GradientRows gradient_rows;
     if (cubic)
-      gradient_rows = [&](int first, int end) { return gradients_of(src, options.slopes, first, end); };
+      gradient_rows = [&](int first, int end) {  // from the input's rows their stencils reach
+        int top = 0;
+        const Image& rows = input.rows(std::max(0, first - 2), std::min(image_height, end + 2), top);
+        return gradients_of(rows, options.slopes, first - top, end - top);
+      };
     double mesh_seconds = 0;  // the bands' meshes, made within the wavefront's surface stage
     if (mesh_band_rows > 0) {
       const StageRunner quiet(nullptr, nullptr);
@@ -329,13 +338,14 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
         stages.log(line);
         return made_band;
       };
-      BandedMeshes meshes(src, grid, mesh_band_rows, region_rows, planned_mesh_band_margin(region_rows), make);
-      make_consistent_streamed(out_width, out_height, meshes, gradient_rows, src, co, &cs, &rs);
+      co.statistics = statistics;
+      BandedMeshes meshes(input, grid, mesh_band_rows, region_rows, planned_mesh_band_margin(region_rows), make);
+      make_consistent_streamed(out_width, out_height, meshes, gradient_rows, input, co, &cs, &rs);
       stages.log("mesh bands: " + std::to_string(meshes.bands_made()) + " of " + std::to_string(mesh_band_rows) +
                  " rows, margin " + std::to_string(meshes.margin()) + " rows, " +
                  std::to_string(meshes.bands_redone()) + " redone with a wider margin");
     } else {
-      make_consistent_streamed(out_width, out_height, values, gradient_rows, mesh, src, co, &cs, &rs);
+      make_consistent_streamed(out_width, out_height, values, gradient_rows, mesh, *src, co, &cs, &rs);
     }
     local.seconds_render += cs.seconds_surface - mesh_seconds;
     log_render(cs.seconds_surface - mesh_seconds, " (a band at a time, with the consistent reconstruction)");
@@ -369,7 +379,7 @@ LawsonStats run_band(const Image& src, int src_top, int image_height, const Band
                   whole_out.pixels.begin() + row_floats * (band.out_first - band.out_origin));
       }
     } else {
-      make_consistent(out, mesh, src, co, &cs);
+      make_consistent(out, mesh, *src, co, &cs);
     }
   }
   local.consistency_mesh_steps = cs.mesh_steps;
@@ -468,8 +478,9 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
     return out;
   };
   if (tile_rows == 0) {
-    const LawsonStats ls = run_band(src, 0, H, Band{0, H, 0, out_height}, out_width, out_height, band_options, cost, drive,
-                                    region_triangles, region_rows, output, local);
+    InputRows input(src);
+    const LawsonStats ls = run_band(input, 0, H, Band{0, H, 0, out_height}, out_width, out_height, band_options, cost,
+                                    drive, region_triangles, region_rows, output, local);
     take_optimizer_stats(ls, local);
     // Streamed, the consistent reconstruction has handed its rows out.
     if (streamed) out = Image();
@@ -492,6 +503,40 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
   if (stats) *stats = local;
   output();  // the allocation is waited for even where no band drew into it
   return out;
+}
+
+bool upscale_reads_by_rows(int width, int height, int channels, int out_width, int out_height,
+                           const UpscaleOptions& options) {
+  if (width < 2 || height < 2 || options.tile_rows > 0) return false;
+  const int mesh_bands = wavefront_mesh_band_rows(width, height, out_width, out_height, options);
+  if (mesh_bands == 0) return false;
+  // Where even that would not fit, upscale() cuts the image into tiles.
+  const double budget = options.max_memory > 0 ? double(options.max_memory) : 0.5 * double(physical_memory());
+  return wavefront_mesh_bytes(width, height, channels, out_width, out_height, mesh_bands, options) <= budget;
+}
+
+UpscaleStats upscale_by_rows(const RowSource& source, int out_width, int out_height, const UpscaleOptions& options) {
+  const int W = source.width, H = source.height, C = source.channels;
+  if (W <= 0 || H <= 0 || C <= 0) throw Error("the input image is empty");
+  if (!options.output_rows) throw Error("an input read by rows needs its output streamed (options.output_rows)");
+  if (!upscale_reads_by_rows(W, H, C, out_width, out_height, options))
+    throw Error("this enlargement does not read its input by rows (upscale_reads_by_rows)");
+  const CostFunction& cost = checked_cost(options);
+  const DriveChannels drive = drive_channels(C, options);
+  const int region_rows = optimizer_region_rows(W, H, options);
+  const long long region_triangles = region_rows * 2LL * std::max(1, W - 1);
+  const InputStatistics statistics = input_statistics(source, options.progress);
+  InputRows input(source);
+  UpscaleStats local;
+  Image unused;
+  const LawsonStats ls = run_band(input, 0, H, Band{0, H, 0, out_height}, out_width, out_height, options, cost, drive,
+                                  region_triangles, region_rows, [&]() -> Image& { return unused; }, local,
+                                  std::numeric_limits<int>::max(), &statistics);
+  take_optimizer_stats(ls, local);
+  if (options.log)
+    options.log("input: read by rows, at most " + std::to_string(input.peak_rows()) + " of " + std::to_string(H) +
+                " held, " + std::to_string(input.rows_read_again()) + " read again");
+  return local;
 }
 
 Mesh2 upscale_mesh(const Image& src, const UpscaleOptions& options, UpscaleStats* stats) {
@@ -587,7 +632,8 @@ Image upscale_rows(const Image& rows, int top, int image_height, int first, int 
   UpscaleOptions band_options = options;
   if (!consistent) band_options.model.kind = AcquisitionModel::Kind::point;
   int needed = 0;
-  const LawsonStats ls = run_band(rows, top, image_height, band, out_width, out_height, band_options, cost, drive,
+  InputRows input(rows);
+  const LawsonStats ls = run_band(input, top, image_height, band, out_width, out_height, band_options, cost, drive,
                                   region_triangles, region_rows, [&]() -> Image& { return out; }, local,
                                   cut_margin, statistics, &needed);
   take_optimizer_stats(ls, local);

@@ -34,6 +34,19 @@ namespace ddt {
 Image upscale(const Image& src, int out_width, int out_height, const UpscaleOptions& options = {},
               UpscaleStats* stats = nullptr);
 
+// Whether upscale_by_rows takes the enlargement of a width x height x
+// channels image to out_width x out_height, streamed: under the box model
+// at an integer scale, from meshes made by bands (wavefront_mesh_band_rows
+// > 0), not cut into tiles.
+bool upscale_reads_by_rows(int width, int height, int channels, int out_width, int out_height,
+                           const UpscaleOptions& options);
+// As upscale() streamed, the input read from `source` a window of rows at
+// a time (after a pass for its statistics), so that what is held of it
+// depends on the width, not on the height (util/input_rows.hpp). The rows
+// handed to options.output_rows are upscale()'s, bit for bit.
+// Throws ddt::Error where upscale_reads_by_rows is false, and the source's.
+UpscaleStats upscale_by_rows(const RowSource& source, int out_width, int out_height, const UpscaleOptions& options);
+
 // The mesh stage of upscale(), untiled: the Delaunay triangulation of the
 // pixel centres (vertex y * width + x at (x + 0.5, y + 0.5)) after the flips
 // `options` asks for; what upscale() renders when it does not tile. Logs

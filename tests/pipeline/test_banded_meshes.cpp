@@ -9,6 +9,7 @@
 
 #include <doctest/doctest.h>
 
+#include <memory>
 #include <random>
 
 using namespace ddt;
@@ -42,9 +43,23 @@ TEST_CASE("BandedMeshes: surfaces and added renders are the one mesh's, drawn a 
   const VertexValues all_gradients{gradients.data(), 0, W * H};
   const VertexValues all_values{src.pixels.data(), 0, W * H};
 
+  // The input held whole, or read by rows from a source and dropped as the
+  // bands pass (what a wavefront reading a file does).
+  const RowSource source{W, H, C, [&](int first, int end, float* rows) {
+                           std::copy(src.pixels.begin() + static_cast<std::ptrdiff_t>(src.index(0, first)),
+                                     src.pixels.begin() + static_cast<std::ptrdiff_t>(src.index(0, end)), rows);
+                         }};
+  std::unique_ptr<InputRows> held;
+  bool by_rows = false;
+  SUBCASE("the input held whole") { held = std::make_unique<InputRows>(src); }
+  SUBCASE("the input read by rows") {
+    held = std::make_unique<InputRows>(source);
+    by_rows = true;
+  }
+  InputRows& input = *held;
   int made = 0;
   // Margin 3 is too narrow for 4-row regions: every cut band is made again, wider.
-  BandedMeshes meshes(src, grid, 20, 4, 3, [&](int top, int bottom, const std::vector<float>& rows) {
+  BandedMeshes meshes(input, grid, 20, 4, 3, [&](int top, int bottom, const std::vector<float>& rows) {
     CHECK(rows.size() == static_cast<std::size_t>(W) * C * (bottom - top));
     CHECK(rows.front() == src.at(0, top, 0));
     ++made;
@@ -60,8 +75,10 @@ TEST_CASE("BandedMeshes: surfaces and added renders are the one mesh's, drawn a 
     meshes.draw(cubic, row, row, cut, &all_gradients, nullptr);
     meshes.add(added, row, row, cut, src.pixels, 0, W * H);
     meshes.release(row);
+    input.release(meshes.first_input_row());
     row = cut;
   }
+  if (by_rows) CHECK(input.peak_rows() < H);
   CHECK(meshes.bands_made() == 5);
   CHECK(meshes.bands_redone() >= 1);
   CHECK(made == meshes.bands_made() + meshes.bands_redone());
@@ -88,7 +105,8 @@ TEST_CASE("BandedMeshes: a band's mesh that is not its rows' pixel grid is an er
   grid.width = 2 * W;
   grid.height = 2 * H;
   grid.scale_x = grid.scale_y = 2;
-  BandedMeshes meshes(src, grid, 20, 4, 30, [&](int top, int bottom, const std::vector<float>&) {
+  InputRows input(src);
+  BandedMeshes meshes(input, grid, 20, 4, 30, [&](int top, int bottom, const std::vector<float>&) {
     return BandMesh{rows_mesh(W, top, bottom - 1), 0};  // a row short
   });
   CHECK_THROWS_WITH_AS(meshes.prepare(0), doctest::Contains("not its rows' pixel grid"), Error);

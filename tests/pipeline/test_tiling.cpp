@@ -15,6 +15,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <random>
 
 using namespace ddt;
@@ -265,7 +266,9 @@ TEST_CASE("upscale: the streamed consistent reconstruction from meshes made by b
       UpscaleOptions opt;  // the box model: the wavefront
       opt.render = render;
       opt.region_rows = 8;  // many regions, so that the bands' margins matter
-      auto streamed = [&](int mesh_band_rows, std::vector<std::string>* lines) {
+      // The input held whole (upscale), or read by rows from a source
+      // (upscale_by_rows: a window of rows, after a pass for its statistics).
+      auto streamed = [&](int mesh_band_rows, std::vector<std::string>* lines, bool by_rows = false) {
         Image gathered(scale * W, scale * H, 3, -1.0f);
         int next = 0;
         UpscaleOptions o = opt;
@@ -277,7 +280,16 @@ TEST_CASE("upscale: the streamed consistent reconstruction from meshes made by b
           next = first_row + rows.height;
         };
         if (lines) o.log = [lines](const std::string& line) { lines->push_back(line); };
-        upscale(in, scale * W, scale * H, o);
+        if (by_rows) {
+          REQUIRE(upscale_reads_by_rows(W, H, 3, scale * W, scale * H, o));
+          const RowSource source{W, H, 3, [&](int first, int end, float* rows) {
+                                   std::copy(in.pixels.begin() + static_cast<std::ptrdiff_t>(in.index(0, first)),
+                                             in.pixels.begin() + static_cast<std::ptrdiff_t>(in.index(0, end)), rows);
+                                 }};
+          upscale_by_rows(source, scale * W, scale * H, o);
+        } else {
+          upscale(in, scale * W, scale * H, o);
+        }
         CHECK(next == scale * H);
         return gathered;
       };
@@ -292,5 +304,21 @@ TEST_CASE("upscale: the streamed consistent reconstruction from meshes made by b
       REQUIRE(summary != lines.end());
       CHECK(summary->rfind("mesh bands: 9 of 45 rows", 0) == 0);
       MESSAGE(*summary);
+      // Read by rows: the same bits, from fewer rows of the input than its height.
+      lines.clear();
+      const Image by_rows = streamed(45, &lines, true);
+      CHECK(differing(one, by_rows) == 0);
+      const auto held = std::find_if(lines.begin(), lines.end(),
+                                     [](const std::string& line) { return line.rfind("input: read by rows", 0) == 0; });
+      REQUIRE(held != lines.end());
+      MESSAGE(*held);
+      int most = 0;
+      REQUIRE(std::sscanf(held->c_str(), "input: read by rows, at most %d", &most) == 1);
+      CHECK(most < H);
+      CHECK(held->find(", 0 read again") != std::string::npos);  // released only behind every step
+      // One mesh does not read by rows.
+      UpscaleOptions one_mesh = opt;
+      one_mesh.mesh_band_rows = -1;
+      CHECK_FALSE(upscale_reads_by_rows(W, H, 3, scale * W, scale * H, one_mesh));
     }
 }
