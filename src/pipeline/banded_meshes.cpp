@@ -48,12 +48,27 @@ BandedMeshes::BandedMeshes(InputRows& input, const RenderGrid& grid, int band_ro
 
 BandedMeshes::~BandedMeshes() = default;
 
+int BandedMeshes::next_band_first() const {
+  if (bands_.empty()) return next_first_;
+  // The first input row whose output rows are not all released.
+  // The wavefront's mesh steps trail its surface by about K (reach + 2)
+  // rows (K = 2 steps); bands take over up to twice that, or a quarter band.
+  const int H = input_.height(), max_overlap = std::max(band_rows_ / 4, 4 * (reach_ + 2));
+  for (int row = next_first_; row >= 0 && next_first_ - row <= max_overlap; --row)
+    if (output_row_of(row, H, grid_.height) <= released_) return row;
+  return next_first_;
+}
+
 void BandedMeshes::make_next() {
   const int W = input_.width(), H = input_.height();
   const std::size_t row_floats = static_cast<std::size_t>(W) * input_.channels();
   auto band = std::make_unique<Band>();
-  band->first = next_first_;
-  band->end = std::min(H, band->first + band_rows_);
+  // Where the rows the bands held still draw lie close enough before the
+  // next (next_band_first), the next band takes them over and the others
+  // are freed first: one band's mesh held, not two.
+  band->first = next_band_first();
+  if (band->first < next_first_) bands_.clear();
+  band->end = std::min(H, next_first_ + band_rows_);
   if (band->first >= H) throw Error("the consistent reconstruction: no rows left for a mesh band");
   int bottom = H, span = 0;
   for (;;) {
@@ -86,6 +101,7 @@ void BandedMeshes::make_next() {
   ++made_;
   next_first_ = band->end;
   bands_.push_back(std::move(band));
+  most_held_ = std::max(most_held_, static_cast<int>(bands_.size()));
 }
 
 const BandedMeshes::Band& BandedMeshes::band_at(int row) const {
@@ -154,12 +170,14 @@ void BandedMeshes::add(Image& into, int at, int first, int end, const std::vecto
 }
 
 void BandedMeshes::release(int row) {
+  released_ = std::max(released_, row);
   while (!bands_.empty() && bands_.front()->out_end <= row) bands_.pop_front();
 }
 
 int BandedMeshes::first_input_row() const {
   const int H = input_.height();
-  return next_first_ < H ? std::max(0, next_first_ - margin_) : H;
+  // A band made again wider reads a region more at least.
+  return next_first_ < H ? std::max(0, next_band_first() - margin_ - region_rows_) : H;
 }
 
 }  // namespace ddt

@@ -2,8 +2,13 @@
 // ddt::BandedMeshes — the meshes the whole image's streamed consistent
 // reconstruction (make_consistent_streamed) draws from, made a band of
 // rows at a time: a band's mesh when the wavefront reaches its rows, freed
-// once the wavefront has passed them. The meshes held are two bands' with
-// their margins, not the image's.
+// once the wavefront has passed them. One band's mesh with its margins is
+// held, not the image's: the wavefront's last mesh step trails its surface
+// by a few triangles' height, so when the surface reaches a band's end the
+// next band starts at the first row not yet released (a few dozen rows
+// back) and the band before is freed before it is made. (Where more than
+// a quarter band, or four triangle heights and more, is still unreleased,
+// the next band starts at the band's end and both are held.)
 //
 // A band draws input rows [first, end) (the output rows sampled there,
 // first_output_row). Its mesh is made by the caller (MakeBandMesh:
@@ -55,12 +60,15 @@ class BandedMeshes final : public WavefrontMeshes {
 
   int bands_made() const { return made_; }
   int bands_redone() const { return redone_; }
+  // The most bands held at once.
+  int most_held() const { return most_held_; }
   int margin() const { return margin_; }
   long long triangles() const { return triangles_; }
 
  private:
   struct Band;
   void make_next();
+  int next_band_first() const;
   const Band& band_at(int row) const;
 
   InputRows& input_;
@@ -69,11 +77,12 @@ class BandedMeshes final : public WavefrontMeshes {
   MakeBandMesh make_;
   std::deque<std::unique_ptr<Band>> bands_;  // in row order, those not yet released
   int next_first_ = 0;                       // the first input row of the next band
+  int released_ = 0;                         // output rows before it are drawn no more
   // At least the planned height: the wavefront drops rows of values by the
   // reach it knows, so a later band's taller triangles must not outrun it
   // (they would be refused, not drawn wrong).
   int reach_ = planned_triangle_rows;
-  int made_ = 0, redone_ = 0;
+  int made_ = 0, redone_ = 0, most_held_ = 0;
   long long triangles_ = 0;
 };
 

@@ -343,7 +343,8 @@ LawsonStats run_band(InputRows& input, int src_top, int image_height, const Band
       make_consistent_streamed(out_width, out_height, meshes, gradient_rows, input, co, &cs, &rs);
       stages.log("mesh bands: " + std::to_string(meshes.bands_made()) + " of " + std::to_string(mesh_band_rows) +
                  " rows, margin " + std::to_string(meshes.margin()) + " rows, " +
-                 std::to_string(meshes.bands_redone()) + " redone with a wider margin");
+                 std::to_string(meshes.bands_redone()) + " redone with a wider margin, at most " +
+                 std::to_string(meshes.most_held()) + " held at once");
     } else {
       make_consistent_streamed(out_width, out_height, values, gradient_rows, mesh, *src, co, &cs, &rs);
     }

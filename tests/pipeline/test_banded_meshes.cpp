@@ -80,6 +80,7 @@ TEST_CASE("BandedMeshes: surfaces and added renders are the one mesh's, drawn a 
   }
   if (by_rows) CHECK(input.peak_rows() < H);
   CHECK(meshes.bands_made() == 5);
+  CHECK(meshes.most_held() == 1);  // released up to the draw: each band takes over from the one before
   CHECK(meshes.bands_redone() >= 1);
   CHECK(made == meshes.bands_made() + meshes.bands_redone());
   CHECK(meshes.margin() >= 12);  // band_margin_needed(0 phases, 4) + a triangle's row + 1

@@ -303,6 +303,8 @@ TEST_CASE("upscale: the streamed consistent reconstruction from meshes made by b
                                         [](const std::string& line) { return line.rfind("mesh bands: ", 0) == 0; });
       REQUIRE(summary != lines.end());
       CHECK(summary->rfind("mesh bands: 9 of 45 rows", 0) == 0);
+      // Each band takes over the rows the one before still drew, which is freed first.
+      CHECK(summary->find("at most 1 held at once") != std::string::npos);
       MESSAGE(*summary);
       // Read by rows: the same bits, from fewer rows of the input than its height.
       lines.clear();
