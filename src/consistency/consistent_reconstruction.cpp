@@ -213,6 +213,7 @@ struct SlidingRows {
     origin = keep;
     if (end - origin > capacity) {
       capacity = end - origin;
+      values.reserve(row_size * capacity);  // exactly: resizing alone would double the vector
       values.resize(row_size * capacity);
     }
   }

@@ -74,11 +74,9 @@ double upscale_job_bytes(int width, int height, int channels, int out_width, int
   const bool tiled = options.optimizer == Optimizer::lawson && options.tile_rows >= 0;
   const int mesh_bands =
       wavefront ? wavefront_mesh_band_rows(width, height, out_width, out_height, options) : 0;
-  // Read by rows, the input held is a window of about two mesh bands.
+  // Read by rows, the input held is a band's rows (in wavefront_mesh_bytes).
   const double held_input =
-      streamed && upscale_reads_by_rows(width, height, channels, out_width, out_height, options)
-          ? std::min(in_pixels, 3.0 * mesh_bands * width)
-          : in_pixels;
+      streamed && upscale_reads_by_rows(width, height, channels, out_width, out_height, options) ? 0 : in_pixels;
   const double images = 4.0 * channels * (held_input + out_pixels * output_images);
   const double mesh = mesh_bands > 0 ? wavefront_mesh_bytes(width, height, channels, out_width, out_height,
                                                             mesh_bands, options)

@@ -144,16 +144,16 @@ Mesh2 band_mesh(const std::vector<float>& values, int W, int C, const Band& band
 }
 
 // Input rows a band of the whole image's wavefront draws from its own mesh
-// (BandedMeshes), or 0 for one mesh: under the region schedule, where two
-// bands and their margins (what the wavefront holds at once) are at most
-// half the image's rows, or as options.mesh_band_rows says.
+// (BandedMeshes), or 0 for one mesh: under the region schedule, where a
+// band and its margins (what the wavefront holds at once) are at most half
+// the image's rows, or as options.mesh_band_rows says.
 int wavefront_band_rows(int height, int region_rows, int margin, const UpscaleOptions& options) {
   if (options.mesh_band_rows < 0 || region_rows <= 0 || options.optimizer != Optimizer::lawson) return 0;
   if (options.mesh_band_rows > 0) return options.mesh_band_rows < height ? options.mesh_band_rows : 0;
   // Taller bands redo less margin: at 8 margins a band, a quarter more of
   // the mesh's work (docs/performance.md).
   const int rows = std::max(1024, 8 * margin);
-  return 2 * 2 * (rows + 2 * margin) <= height ? rows : 0;
+  return 2 * (rows + 2 * margin) <= height ? rows : 0;
 }
 
 // The margin a mesh band starts with: two regions and the planned
@@ -579,9 +579,12 @@ int wavefront_mesh_band_rows(int width, int height, int out_width, int out_heigh
 double wavefront_mesh_bytes(int width, int height, int channels, int out_width, int out_height, int band_rows,
                             const UpscaleOptions& options) {
   const int margin = planned_mesh_band_margin(optimizer_region_rows(width, height, options));
-  const double band_pixels = double(width) * std::min<double>(height, 2.0 * (band_rows + 2.0 * margin));
+  // One band with its margins and the rows it takes over from the band
+  // before (BandedMeshes), its input rows read by rows.
+  const double band_pixels =
+      double(width) * std::min<double>(height, band_rows + 2.0 * margin + 4.0 * (planned_triangle_rows + 2));
   const double wavefront_rows = std::min<double>(out_height, 256.0 * out_height / height);
-  return (90.0 + 5.0 * channels) * band_pixels + 3 * 4.0 * channels * out_width * wavefront_rows;
+  return (110.0 + 6.0 * channels) * band_pixels + 3 * 4.0 * channels * out_width * wavefront_rows;
 }
 
 int band_margin_needed(int phases, int region_rows) { return (phases + 1) * ((region_rows + 1) / 2) + 8; }

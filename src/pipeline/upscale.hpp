@@ -79,8 +79,8 @@ int output_row_of(int y, int in_height, int out_height);
 // Input rows per mesh band when the whole image's streamed consistent
 // reconstruction draws from meshes made by bands (BandedMeshes; the
 // wavefront of make_consistent_streamed), 0 where it draws from one mesh;
-// and the bytes such a job holds beside its input: two bands' meshes with
-// their margins, and the wavefront's output rows (docs/performance.md).
+// and the bytes such a job holds: a band's mesh with its margins and its
+// rows of the input, and the wavefront's output rows (docs/performance.md).
 int wavefront_mesh_band_rows(int width, int height, int out_width, int out_height, const UpscaleOptions& options);
 double wavefront_mesh_bytes(int width, int height, int channels, int out_width, int out_height, int band_rows,
                             const UpscaleOptions& options);

@@ -47,6 +47,7 @@ const Image& InputRows::rows(int first, int end, int& top) {
     std::copy(window_.pixels.begin() + static_cast<std::ptrdiff_t>(row_floats * (keep - origin_)),
               window_.pixels.end(), window_.pixels.begin());
     window_.height = target - keep;
+    window_.pixels.reserve(row_floats * window_.height);  // no more than asked for: the vector would double
     window_.pixels.resize(row_floats * window_.height);
     source_->read(loaded_, target, window_.pixels.data() + row_floats * (loaded_ - keep));
     origin_ = keep;
