@@ -106,8 +106,9 @@ UpscaleCommandLine parse_upscale_command_line(int argc, const char* const* argv)
       ->check(whole_number(-1, std::numeric_limits<int>::max()));
   app.add_option("--mesh-band-rows", args.mesh_band_rows,
                  "box model at whole scales, streamed: build the mesh in bands of this many input rows, each "
-                 "made as the reconstruction reaches it and freed once it has passed (same output, less memory, "
-                 "the bands' margins redone; default: on images tall enough to gain; -1: one mesh)")
+                 "made as the reconstruction reaches it and freed before the next, the input file read by rows "
+                 "(same output, less memory, the bands' margins redone; default: on images tall enough to gain; "
+                 "-1: one mesh)")
       ->check(whole_number(-1, std::numeric_limits<int>::max()));
   app.add_option("--max-memory", args.max_memory,
                  "memory target of the job (e.g. 2G, 512M): a larger job is read, enlarged and written by "

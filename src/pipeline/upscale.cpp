@@ -443,7 +443,7 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
     const double budget = options.max_memory > 0 ? double(options.max_memory) : 0.5 * double(physical_memory());
     const double input = 4.0 * C * W * H;
     // Streamed through the wavefront from meshes made by bands, the whole
-    // image holds two bands' meshes and the wavefront's rows.
+    // image holds a band's mesh and the wavefront's rows.
     const int mesh_bands = options.output_rows ? wavefront_mesh_band_rows(W, H, out_width, out_height, options) : 0;
     const double whole_job = mesh_bands > 0 ? wavefront_mesh_bytes(W, H, C, out_width, out_height, mesh_bands, options)
                                             : banded_bytes(W, H, C, out_width, out_height, H, 0);
