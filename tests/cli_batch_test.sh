@@ -15,6 +15,10 @@ bad() { failed=$((failed + 1)); echo "FAIL: $*"; }
 same_pixels() { oiiotool "$1" "$2" --diff >/dev/null 2>&1; }
 
 cd "$work"
+# The batch's temporary logs go to a folder of this test's own, so that
+# other tests' batches running beside it (ctest -j) do not count as leftovers.
+mkdir -p tmp
+export TMPDIR="$work/tmp"
 mkdir -p scans more
 oiiotool --pattern checker:width=4:height=4:color1=0.1,0.2,0.3:color2=0.9,0.8,0.7 24x16 3 -o a.png
 oiiotool --pattern fill:top=0:bottom=1 20x10 1 -d uint16 -o scans/grey16.png
@@ -63,7 +67,7 @@ oiiotool --info -v exr/a.exr | grep -q openexr && ok || bad "--format exr did no
 [ $? -eq 2 ] && [ "$(wc -l <err.txt)" -eq 1 ] && ok || bad "bad --jobs: $(cat err.txt)"
 "$bin" 'nothing/*.png' --outdir out3 --scale 2 2>err.txt
 [ $? -eq 1 ] && grep -q "no file matches" err.txt && ok || bad "empty glob: $(cat err.txt)"
-ls -a /tmp | grep -q "ddtscale-batch-" && bad "temporary logs left behind" || ok
+ls -a "$TMPDIR" | grep -q "ddtscale-batch-" && bad "temporary logs left behind" || ok
 
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]
