@@ -190,7 +190,8 @@ def upscale_file(input: str, output: str, scale: Optional[float] = None,
     max_memory: bytes or a size such as "2G") is read, enlarged and written
     by bands, to the same bits; under the box model at whole scales a tall
     image's mesh is made by bands of rows as the reconstruction reaches them
-    (mesh_band_rows=N; 0: automatic, -1: one mesh), to the same bits too.
+    and the input file is read a window of rows at a time (mesh_band_rows=N;
+    0: automatic, -1: one mesh), to the same bits too.
     Options are those of
     upscale() but compare and mesh, and the command line's for the file
     (UPSCALE_FILE_OPTIONS): compression ("1:up", "9:adaptive" for PNG;
