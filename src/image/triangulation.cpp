@@ -230,13 +230,7 @@ Mesh2 delaunay_triangulation(std::vector<Point2>&& points) {
 }
 
 Mesh2 delaunay_triangulation(const std::vector<Point2>& points) {
-  int W = 0, H = 0;
-  Mesh2 grid;
-  if (is_unit_grid(points, W, H) && grid_delaunay(W, H, grid)) {
-    grid.points = points;
-    return grid;
-  }
-  return general_delaunay(points);
+  return delaunay_triangulation(std::vector<Point2>(points));
 }
 
 bool is_delaunay(const Mesh2& mesh) { return core::is_delaunay<2>(as_simplex_mesh(mesh)); }

@@ -399,6 +399,18 @@ LawsonStats run_band(InputRows& input, int src_top, int image_height, const Band
   return ls;
 }
 
+// Triangles of a region of the optimizer on an image `width` pixels wide:
+// whole rows of cells, so that tiles (bands of rows) cut the same regions
+// as the whole image; -1 where the image is one region.
+long long region_triangles_of(int width, int region_rows) {
+  return region_rows > 0 ? region_rows * 2LL * std::max(1, width - 1) : -1;
+}
+
+// The bytes a job may plan for: options.max_memory, else half the machine's.
+double job_budget(const UpscaleOptions& options) {
+  return options.max_memory > 0 ? double(options.max_memory) : 0.5 * double(physical_memory());
+}
+
 // The checks before any work: the cost's name and the annealing schedule.
 const CostFunction& checked_cost(const UpscaleOptions& options) {
   const CostFunction& cost = find_cost(options.cost);
@@ -423,9 +435,6 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
   UpscaleStats local;
   const int W = src.width, H = src.height, C = src.channels;
 
-  // Regions of the optimizer: whole rows, so that tiles (bands of rows)
-  // cut the same regions as the whole image.
-  const long long cells_row = 2LL * std::max(1, W - 1);
   const int region_rows = optimizer_region_rows(W, H, options);
 
   // Tiles: only where the whole image would not fit (or when asked), and
@@ -440,7 +449,7 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
   if (can_tile && options.tile_rows > 0) {
     tile_rows = options.tile_rows;
   } else if (can_tile && options.tile_rows == 0) {
-    const double budget = options.max_memory > 0 ? double(options.max_memory) : 0.5 * double(physical_memory());
+    const double budget = job_budget(options);
     const double input = 4.0 * C * W * H;
     // Streamed through the wavefront from meshes made by bands, the whole
     // image holds a band's mesh and the wavefront's rows.
@@ -464,7 +473,7 @@ Image upscale(const Image& src, int out_width, int out_height, const UpscaleOpti
     band_options.model.kind = AcquisitionModel::Kind::point;
     if (options.log) options.log("consistency: skipped, the output is smaller than the input on an axis (point model)");
   }
-  const long long region_triangles = region_rows > 0 ? region_rows * cells_row : -1;
+  const long long region_triangles = region_triangles_of(W, region_rows);
   // Streamed, every tile hands its rows out itself; the untiled consistent
   // reconstruction holds the whole output and hands out each band of it
   // once its last steps are done (make_consistent).
@@ -512,8 +521,8 @@ bool upscale_reads_by_rows(int width, int height, int channels, int out_width, i
   const int mesh_bands = wavefront_mesh_band_rows(width, height, out_width, out_height, options);
   if (mesh_bands == 0) return false;
   // Where even that would not fit, upscale() cuts the image into tiles.
-  const double budget = options.max_memory > 0 ? double(options.max_memory) : 0.5 * double(physical_memory());
-  return wavefront_mesh_bytes(width, height, channels, out_width, out_height, mesh_bands, options) <= budget;
+  const double bytes = wavefront_mesh_bytes(width, height, channels, out_width, out_height, mesh_bands, options);
+  return bytes <= job_budget(options);
 }
 
 UpscaleStats upscale_by_rows(const RowSource& source, int out_width, int out_height, const UpscaleOptions& options) {
@@ -525,7 +534,7 @@ UpscaleStats upscale_by_rows(const RowSource& source, int out_width, int out_hei
   const CostFunction& cost = checked_cost(options);
   const DriveChannels drive = drive_channels(C, options);
   const int region_rows = optimizer_region_rows(W, H, options);
-  const long long region_triangles = region_rows * 2LL * std::max(1, W - 1);
+  const long long region_triangles = region_triangles_of(W, region_rows);
   const InputStatistics statistics = input_statistics(source, options.progress);
   InputRows input(source);
   UpscaleStats local;
@@ -545,7 +554,7 @@ Mesh2 upscale_mesh(const Image& src, const UpscaleOptions& options, UpscaleStats
   const CostFunction& cost = checked_cost(options);
   const DriveChannels drive = drive_channels(src, options);
   const int region_rows = optimizer_region_rows(src.width, src.height, options);
-  const long long region_triangles = region_rows > 0 ? region_rows * 2LL * std::max(1, src.width - 1) : -1;
+  const long long region_triangles = region_triangles_of(src.width, region_rows);
   UpscaleStats local;
   LawsonStats ls;
   Mesh2 mesh = band_mesh(src.pixels, src.width, src.channels, Band{0, src.height, 0, 0}, options, cost, drive,
@@ -624,7 +633,7 @@ Image upscale_rows(const Image& rows, int top, int image_height, int first, int 
   if (!whole && options.optimize && (region_rows <= 0 || options.optimizer != Optimizer::lawson))
     throw Error("a band equals the whole image's rows only under Lawson's region schedule "
                 "(optimizer lawson, region_rows > 0)");
-  const long long region_triangles = region_rows > 0 ? region_rows * 2LL * std::max(1, rows.width - 1) : -1;
+  const long long region_triangles = region_triangles_of(rows.width, region_rows);
   Band band{top, bottom, first_output_row(first, image_height, out_height),
             first_output_row(end, image_height, out_height)};
   band.out_origin = band.out_first;
