@@ -3,8 +3,9 @@
 // per format, handed to OpenImageIO's writers as ImageSpec attributes.
 //
 // compression (empty: the format's default, default_compression):
-//   PNG   LEVEL[:FILTER], LEVEL 0..9 (zlib), FILTER none, sub, up, avg,
-//         paeth or adaptive (libpng picks one per row); default 1:up
+//   PNG   LEVEL[:FILTER[:STRATEGY]], LEVEL 0..9 (zlib), FILTER none, sub,
+//         up, avg, paeth or adaptive (libpng picks one per row), STRATEGY
+//         zlib's default, filtered, huffman, rle or fixed; default 1:up:rle
 //         (docs/performance.md: zlib 6 took 9x the time for 0.8x the bytes)
 //   EXR   none, rle, zips, zip, piz, pxr24, b44, b44a, dwaa, dwab, with
 //         :LEVEL for dwaa/dwab (lossy; 45 by default); default piz

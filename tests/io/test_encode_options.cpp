@@ -9,6 +9,8 @@
 
 #include <cmath>
 #include <filesystem>
+#include <map>
+#include <vector>
 
 using namespace ddt;
 using ddt::test::TempDir;
@@ -53,6 +55,32 @@ TEST_CASE("write_image: PNG levels and filters round-trip the same pixels - a hi
   }
   // Level 0 stores the rows: at least the raw bytes (3 per pixel, 1 filter byte per row).
   CHECK(std::filesystem::file_size(dir / "l0.png") >= std::uintmax_t(96 * 64 * 3 + 64));
+}
+
+TEST_CASE("write_image: the PNG strategy reaches zlib - the default is 1:up:rle") {
+  const TempDir dir;
+  const Image img = texture(96, 64);
+  std::map<std::string, std::uintmax_t> sizes;
+  std::vector<float> first;
+  const char* const texts[] = {"", "1:up:rle", "1:up", "1:up:huffman", "1:up:default"};
+  const char* const names[] = {"s0.png", "s1.png", "s2.png", "s3.png", "s4.png"};
+  for (int i = 0; i < 5; ++i) {
+    const std::string text = texts[i];
+    EncodeOptions encode;
+    encode.compression = text;
+    const std::string path = dir / names[i];
+    write_image(path, img, SampleFormat::uint8, -1, nullptr, encode);
+    const ImageFile back = read_image(path);
+    if (first.empty()) first = back.image.pixels;
+    CHECK(back.image.pixels == first);
+    sizes[text] = std::filesystem::file_size(path);
+  }
+  CHECK(default_compression("png") == "1:up:rle");
+  CHECK(sizes[""] == sizes["1:up:rle"]);
+  CHECK(sizes["1:up"] == sizes["1:up:default"]);  // zlib's default strategy when none is named
+  // Huffman coding alone finds no repeated strings: other bytes than the others.
+  CHECK(sizes["1:up:huffman"] != sizes["1:up:default"]);
+  CHECK(sizes["1:up:huffman"] != sizes["1:up:rle"]);
 }
 
 TEST_CASE("write_image: EXR compression, --half and --float reach the file") {
@@ -132,6 +160,8 @@ TEST_CASE("check_encode_options: bad values are refused with the option's name")
   refused("o.png", e, "from 0 to 9");
   e.compression = "3:diagonal";
   refused("o.png", e, "unknown PNG filter");
+  e.compression = "1:up:zigzag";
+  refused("o.png", e, "unknown zlib strategy");
   e.compression = "zap";
   refused("o.exr", e, "EXR compression is one of");
   e.compression = "zip:4";
