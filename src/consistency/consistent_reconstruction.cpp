@@ -329,7 +329,9 @@ void make_consistent_streamed(int out_width, int out_height, WavefrontMeshes& me
     lag = K * mesh_reach + solve_reach + 2;
     step = std::max(32, lag);  // input rows drawn at a time
   };
-  meshes.prepare(0);
+  const auto t_first = std::chrono::steady_clock::now();
+  meshes.prepare(0);  // the first mesh (band): part of the surface's time, as the later ones
+  surface_seconds += seconds_since(t_first);
   update_reach();
   int drawn = 0, solved = 0, finished = 0, checked = 0;
   std::vector<int> residual_done(K + 1, 0), stepped(K + 1, 0);

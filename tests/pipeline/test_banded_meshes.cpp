@@ -4,13 +4,16 @@
 #include "image/cubic_surface.hpp"
 #include "image/rasterizer.hpp"
 #include "image/triangulation.hpp"
+#include "consistency/consistent_reconstruction.hpp"
 #include "pipeline/banded_meshes.hpp"
 #include "util/error.hpp"
 
 #include <doctest/doctest.h>
 
+#include <chrono>
 #include <memory>
 #include <random>
+#include <thread>
 
 using namespace ddt;
 
@@ -111,4 +114,32 @@ TEST_CASE("BandedMeshes: a band's mesh that is not its rows' pixel grid is an er
     return BandMesh{rows_mesh(W, top, bottom - 1), 0};  // a row short
   });
   CHECK_THROWS_WITH_AS(meshes.prepare(0), doctest::Contains("not its rows' pixel grid"), Error);
+}
+
+TEST_CASE("make_consistent_streamed: the surface's seconds hold every band's making, the first included") {
+  const int W = 16, H = 80, C = 1, scale = 2;
+  Image src(W, H, C);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> value(0.0f, 1.0f);
+  for (float& v : src.pixels) v = value(rng);
+  RenderGrid grid;
+  grid.width = scale * W;
+  grid.height = scale * H;
+  grid.scale_x = grid.scale_y = scale;
+  InputRows input(src);
+  int made = 0;
+  const auto pause = std::chrono::milliseconds(40);
+  BandedMeshes meshes(input, grid, 20, 4, 30, [&](int top, int bottom, const std::vector<float>&) {
+    ++made;
+    std::this_thread::sleep_for(pause);  // a band's making, longer than drawing this small image
+    return BandMesh{rows_mesh(W, top, bottom), 0};
+  });
+  ConsistencyOptions options;
+  int handed = 0;
+  options.output_rows = [&](Image rows, int) { handed += rows.height; };
+  ConsistencyStats stats;
+  make_consistent_streamed(grid.width, grid.height, meshes, nullptr, input, options, &stats);
+  CHECK(handed == grid.height);
+  REQUIRE(made >= 2);
+  CHECK(stats.seconds_surface >= made * std::chrono::duration<double>(pause).count());
 }
