@@ -138,6 +138,23 @@ double triangle_cost(const Mesh2& mesh, const std::vector<float>& values, int K,
 // Flag bits per half-edge: queued by the initial scan, or on a list.
 constexpr std::uint8_t queued_initially = 1, queued = 2;
 
+// The two flag bits of every half-edge, packed by triangle (its three
+// half-edges' in one byte, a third of a byte a half-edge): a region writes
+// the bytes of its own triangles only, so regions never share one.
+class HalfEdgeFlags {
+ public:
+  explicit HalfEdgeFlags(index_t half_edges) : bytes_(static_cast<std::size_t>(half_edges / 3), 0) {}
+  std::uint8_t operator[](index_t h) const { return (bytes_[static_cast<std::size_t>(h / 3)] >> shift(h)) & 3; }
+  void set(index_t h, std::uint8_t bits) {
+    std::uint8_t& byte = bytes_[static_cast<std::size_t>(h / 3)];
+    byte = static_cast<std::uint8_t>((byte & ~(3 << shift(h))) | (bits << shift(h)));
+  }
+
+ private:
+  static int shift(index_t h) { return 2 * (h % 3); }
+  std::vector<std::uint8_t> bytes_;
+};
+
 struct Region {
   index_t first = 0, last = 0;  // triangles [first, last)
   bool owns(index_t t) const { return t >= first && t < last; }
@@ -154,14 +171,14 @@ struct RegionResult {
 // Shared state of one optimization run.
 struct Run {
   Mesh2& mesh;
-  std::vector<std::uint8_t> flags;  // per half-edge
+  HalfEdgeFlags flags;
   const LawsonOptions& options;
   bool reaches_neighbours;  // facet costs: a flip changes the neighbours' edges too
   std::atomic<long long> tests_reported{0};
   std::mutex report_mutex;
 
   Run(Mesh2& m, const LawsonOptions& o, bool reach)
-      : mesh(m), flags(m.half_edge_count(), 0), options(o), reaches_neighbours(reach) {}
+      : mesh(m), flags(m.half_edge_count()), options(o), reaches_neighbours(reach) {}
 
   void report_tests(long long add) {
     const long long total = tests_reported.fetch_add(add) + add;
@@ -181,7 +198,7 @@ template <class Evaluator, class OnIteration>
 void run_region(Run& run, const Evaluator& evaluator, const Region& region, bool scan, std::vector<index_t> active,
                 RegionResult& result, OnIteration on_iteration) {
   Mesh2& mesh = run.mesh;
-  std::vector<std::uint8_t>& flags = run.flags;
+  HalfEdgeFlags& flags = run.flags;
   std::vector<index_t> candidate;
   typename Evaluator::Scratch scratch(3 * region.first, 3 * region.last);
   if (scan) result.initial_cost = evaluator.fill(scratch, 3 * region.first, 3 * region.last);
@@ -194,7 +211,7 @@ void run_region(Run& run, const Evaluator& evaluator, const Region& region, bool
       return;
     }
     if (flags[h] || flags[o]) return;
-    flags[h] = queued;
+    flags.set(h, queued);
     candidate.push_back(h);
   };
   // Tests e (flag already cleared); returns 1 when it flipped.
@@ -242,7 +259,7 @@ void run_region(Run& run, const Evaluator& evaluator, const Region& region, bool
   auto scan_initial = [&](long long& flips) {
     for (index_t e = 3 * region.first; e < 3 * region.last; ++e) {
       if (!(flags[e] & queued_initially)) continue;
-      flags[e] = 0;
+      flags.set(e, 0);
       flips += test(e);
     }
   };
@@ -250,13 +267,14 @@ void run_region(Run& run, const Evaluator& evaluator, const Region& region, bool
       scan, std::move(active), candidate, run.options.max_iterations, result.iterations, result.flips,
       [] { return 0LL; }, scan_initial,
       [&](index_t e, long long& flips) {
-        flags[e] = 0;
+        flags.set(e, 0);
         flips += test(e);
       },
-      [&](index_t e) { flags[e] = 0; },
+      [&](index_t e) { flags.set(e, 0); },
       [&](int iteration, long long flips) { on_iteration(iteration, flips, result.gains); });
   if (scan && result.iterations == 0)  // the scan never ran (max_iterations <= 0)
-    for (index_t e = 3 * region.first; e < 3 * region.last; ++e) flags[e] &= static_cast<std::uint8_t>(~queued_initially);
+    for (index_t e = 3 * region.first; e < 3 * region.last; ++e)
+      flags.set(e, static_cast<std::uint8_t>(flags[e] & ~queued_initially));
   run.report_tests(unreported);
 }
 
@@ -335,7 +353,7 @@ void optimize_with(Run& run, const Evaluator& evaluator, LawsonStats& stats) {
       for (index_t h : result.deferred) {
         const index_t o = mesh.opp[h];
         if (o == no_edge || run.flags[h] || run.flags[o]) continue;
-        run.flags[h] = queued;
+        run.flags.set(h, queued);
         list.push_back(h);
       }
     }
@@ -420,9 +438,10 @@ LawsonStats optimize_lawson(Mesh2& mesh, const std::vector<float>& values, int K
   LawsonStats stats;
   Run run(mesh, options, cost.form != CostForm::simplex_weight);
   // The reference's initial active list: every interior edge once.
-  tbb::parallel_for(tbb::blocked_range<index_t>(0, mesh.half_edge_count()), [&](const tbb::blocked_range<index_t>& r) {
-    for (index_t e = r.begin(); e < r.end(); ++e)
-      if (mesh.opp[e] != no_edge && e < mesh.opp[e]) run.flags[e] = queued_initially;
+  // By triangles: a triangle's flags share a byte.
+  tbb::parallel_for(tbb::blocked_range<index_t>(0, mesh.triangle_count()), [&](const tbb::blocked_range<index_t>& r) {
+    for (index_t e = 3 * r.begin(); e < 3 * r.end(); ++e)
+      if (mesh.opp[e] != no_edge && e < mesh.opp[e]) run.flags.set(e, queued_initially);
   });
   const Geometry geometry{mesh, plain_arithmetic_is_exact(mesh.points)};
   const double tol = options.relative_tolerance;
