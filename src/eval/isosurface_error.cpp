@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 namespace ddt {
@@ -16,6 +18,57 @@ struct Line {
   std::array<int, 4> start;  // x, y, z, t of the first sample
   int axis;                  // 0, 1 or 2
 };
+
+// The trilinear interpolant of step l of v at voxel coordinates u (sample
+// i at i + 0.5, indices clamped): the isosurface picture's.
+double trilinear(const Volume& v, int l, const std::array<double, 3>& u) {
+  const std::array<int, 4> n = v.size();
+  int i0[3], i1[3];
+  double w[3];
+  for (int a = 0; a < 3; ++a) {
+    const double p = std::clamp(u[a] - 0.5, 0.0, n[a] - 1.0);
+    i0[a] = std::min(static_cast<int>(p), n[a] - 1);
+    i1[a] = std::min(i0[a] + 1, n[a] - 1);
+    w[a] = p - i0[a];
+  }
+  double sum = 0;
+  for (int c = 0; c < 2; ++c)
+    for (int b = 0; b < 2; ++b)
+      for (int a = 0; a < 2; ++a)
+        sum += (a ? w[0] : 1 - w[0]) * (b ? w[1] : 1 - w[1]) * (c ? w[2] : 1 - w[2]) *
+               v.at4(a ? i1[0] : i0[0], b ? i1[1] : i0[1], c ? i1[2] : i0[2], l);
+  return sum;
+}
+
+// The angle between the picture's shading normal of step l at unit-cube
+// point q and the true normal there, in degrees.
+double normal_angle(const Volume& v, int l, const std::array<double, 3>& q, double t, const SurfaceDistance& distance) {
+  const std::array<int, 4> n = v.size();
+  std::array<double, 3> g{}, d{};
+  const double h = 1e-4;
+  for (int c = 0; c < 3; ++c) {
+    std::array<double, 3> u{q[0] * n[0], q[1] * n[1], q[2] * n[2]}, w = u;
+    u[c] += 0.5, w[c] -= 0.5;
+    g[c] = trilinear(v, l, w) - trilinear(v, l, u);  // outward: where values fall
+    std::array<double, 3> a = q, b = q;
+    a[c] += h, b[c] -= h;
+    d[c] = distance(a[0], a[1], a[2], t) - distance(b[0], b[1], b[2], t);
+  }
+  const double gn = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+  const double dn = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  if (!(gn > 0) || !(dn > 0)) return 90;
+  const double cosine = std::clamp((g[0] * d[0] + g[1] * d[1] + g[2] * d[2]) / (gn * dn), -1.0, 1.0);
+  return std::acos(cosine) * (180 / 3.14159265358979323846);
+}
+
+// RMS and 99th percentile of `values`, which it sorts.
+std::pair<double, double> rms_p99(std::vector<double>& values) {
+  double squares = 0;
+  for (double x : values) squares += x * x;
+  std::sort(values.begin(), values.end());
+  const std::size_t at = std::min(values.size() - 1, static_cast<std::size_t>(0.99 * values.size()));
+  return {std::sqrt(squares / values.size()), values[at]};
+}
 
 }  // namespace
 
@@ -34,7 +87,7 @@ IsosurfaceError isosurface_error(const Volume& v, double level, const SurfaceDis
 
   // One task per scored step and slice; each keeps its own distances.
   const int tasks = static_cast<int>(steps.size()) * n[2];
-  std::vector<std::vector<double>> found(tasks);
+  std::vector<std::vector<double>> found(tasks), angles(tasks);
   std::vector<long long> truth(tasks, 0);
   tbb::parallel_for(0, tasks, [&](int task) {
     const int l = steps[task / n[2]], z = task % n[2];
@@ -61,6 +114,7 @@ IsosurfaceError isosurface_error(const Volume& v, double level, const SurfaceDis
           std::array<double, 3> q = p;
           q[line.axis] = position(line.axis, i - 1 + f);
           found[task].push_back(std::abs(signed_distance(q)) / voxel);
+          angles[task].push_back(normal_angle(v, l, q, t, distance));
         }
         previous = current, previous_true = current_true;
       }
@@ -68,20 +122,20 @@ IsosurfaceError isosurface_error(const Volume& v, double level, const SurfaceDis
   });
 
   IsosurfaceError e;
-  std::vector<double> all;
+  std::vector<double> all, all_angles;
   for (int task = 0; task < tasks; ++task) {
     all.insert(all.end(), found[task].begin(), found[task].end());
+    all_angles.insert(all_angles.end(), angles[task].begin(), angles[task].end());
     e.true_crossings += truth[task];
   }
   e.crossings = static_cast<long long>(all.size());
   if (all.empty()) return e;
-  double sum = 0, squares = 0;
-  for (double d : all) sum += d, squares += d * d;
+  double sum = 0;
+  for (double d : all) sum += d;
   e.mean = sum / all.size();
-  e.rms = std::sqrt(squares / all.size());
-  std::sort(all.begin(), all.end());
+  std::tie(e.rms, e.p99) = rms_p99(all);
   e.max = all.back();
-  e.p99 = all[std::min(all.size() - 1, static_cast<std::size_t>(0.99 * all.size()))];
+  std::tie(e.normal_rms, e.normal_p99) = rms_p99(all_angles);
   return e;
 }
 

@@ -16,7 +16,8 @@
 //
 // Sample positions: voxel centres in space, ((i + 0.5) / n), and instants
 // in time, step l at l / (nt - 1) (0 for a single step): the conventions of
-// volume_fields.hpp.
+// volume_fields.hpp. Values are above the level inside the surface, where
+// the distance is negative.
 
 #include "volume/volume.hpp"
 
@@ -35,6 +36,14 @@ struct IsosurfaceError {
   double mean = 0;
   double p99 = 0;  // 99th percentile
   double max = 0;
+  // The shading's error: at each crossing, the angle in degrees between
+  // the normal the isosurface picture shades with (volume_pictures.cpp:
+  // central differences half a voxel either side of the trilinear
+  // interpolant, outward where values fall) and the true surface's normal
+  // (the distance's gradient). Terraces, ripples and folds tilt it even
+  // where the surface's place is right; a missing gradient counts 90.
+  double normal_rms = 0;
+  double normal_p99 = 0;
 };
 
 // Scores channel 0 of v over the time steps for which score_step(l) is

@@ -77,6 +77,7 @@ std::vector<VolumeSeriesExperimentRow> run_volume_series_experiment(const Volume
     const IsosurfaceError iso = isosurface_error(v, field.iso_level, field.surface_distance,
                                                  [&](int l) { return l % options.time_scale != 0; });
     row.iso_rms = iso.rms, row.iso_p99 = iso.p99;
+    row.iso_normal_rms = iso.normal_rms, row.iso_normal_p99 = iso.normal_p99;
     row.iso_crossings = iso.crossings, row.iso_true_crossings = iso.true_crossings;
     // The kept steps alone (space only) tell the temporal share apart.
     row.iso_rms_kept = isosurface_error(v, field.iso_level, field.surface_distance,
@@ -89,9 +90,11 @@ std::vector<VolumeSeriesExperimentRow> run_volume_series_experiment(const Volume
     row.method = reference_method;
     score_isosurface(reference, row);
     char line[300];
-    std::snprintf(line, sizeof line, "%s, the field at the output's voxels: isosurface RMS %.3f voxel (p99 %.3f, %lld of %lld crossings; kept steps %.3f)",
+    std::snprintf(line, sizeof line,
+                  "%s, the field at the output's voxels: isosurface RMS %.3f voxel (p99 %.3f, %lld of %lld "
+                  "crossings; kept steps %.3f), normal RMS %.2f degrees (p99 %.2f)",
                   options.field.c_str(), row.iso_rms, row.iso_p99, row.iso_crossings, row.iso_true_crossings,
-                  row.iso_rms_kept);
+                  row.iso_rms_kept, row.iso_normal_rms, row.iso_normal_p99);
     log(line);
     rows.push_back(row);
   }
@@ -112,10 +115,11 @@ std::vector<VolumeSeriesExperimentRow> run_volume_series_experiment(const Volume
     char line[500];
     std::snprintf(line, sizeof line,
                   "%s %d^3 x %d steps, x%d space, x%d time, %s: RMSE %.5f, PSNR %.2f dB (made steps %.2f), "
-                  "isosurface RMS %.3f voxel (p99 %.3f, %lld of %lld crossings; kept steps %.3f), flips %s, %.1f s",
+                  "isosurface RMS %.3f voxel (p99 %.3f, %lld of %lld crossings; kept steps %.3f), normal RMS %.2f "
+                  "degrees (p99 %.2f), flips %s, %.1f s",
                   options.field.c_str(), n, options.steps, options.scale, options.time_scale, spec.c_str(), row.rmse,
                   row.psnr, row.psnr_made, row.iso_rms, row.iso_p99, row.iso_crossings, row.iso_true_crossings,
-                  row.iso_rms_kept, st.flips.summary().c_str(), row.seconds);
+                  row.iso_rms_kept, row.iso_normal_rms, row.iso_normal_p99, st.flips.summary().c_str(), row.seconds);
     log(line);
     rows.push_back(row);
     results[spec] = std::move(out);
@@ -147,17 +151,21 @@ std::vector<VolumeSeriesExperimentRow> run_volume_series_experiment(const Volume
 std::string volume_series_experiment_table(const std::vector<VolumeSeriesExperimentRow>& rows) {
   std::string table =
       "| field | method | RMSE | PSNR (dB) | PSNR, made steps (dB) | isosurface RMS, made steps (voxels) | "
-      "isosurface p99 | crossings / true | simplices | flips | seconds |\n"
-      "|---|---|---|---|---|---|---|---|---|---|---|\n";
+      "isosurface p99 | shading normal RMS, made steps (degrees) | normal p99 | crossings / true | simplices | "
+      "flips | seconds |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& r : rows) {
     char line[400];
     if (r.method == reference_method)
-      std::snprintf(line, sizeof line, "| %s | %s | 0 | — | — | %.3f | %.3f | %lld / %lld | | | |\n", r.field.c_str(),
-                    r.method.c_str(), r.iso_rms, r.iso_p99, r.iso_crossings, r.iso_true_crossings);
+      std::snprintf(line, sizeof line, "| %s | %s | 0 | — | — | %.3f | %.3f | %.2f | %.2f | %lld / %lld | | | |\n",
+                    r.field.c_str(), r.method.c_str(), r.iso_rms, r.iso_p99, r.iso_normal_rms, r.iso_normal_p99,
+                    r.iso_crossings, r.iso_true_crossings);
     else
-      std::snprintf(line, sizeof line, "| %s | %s | %.5f | %.2f | %.2f | %.3f | %.3f | %lld / %lld | %lld | %lld | %.1f |\n",
+      std::snprintf(line, sizeof line,
+                    "| %s | %s | %.5f | %.2f | %.2f | %.3f | %.3f | %.2f | %.2f | %lld / %lld | %lld | %lld | %.1f |\n",
                     r.field.c_str(), r.method.c_str(), r.rmse, r.psnr, r.psnr_made, r.iso_rms, r.iso_p99,
-                    r.iso_crossings, r.iso_true_crossings, r.simplices, r.flips, r.seconds);
+                    r.iso_normal_rms, r.iso_normal_p99, r.iso_crossings, r.iso_true_crossings, r.simplices, r.flips,
+                    r.seconds);
     table += line;
   }
   return table;

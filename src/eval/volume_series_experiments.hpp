@@ -62,6 +62,7 @@ struct VolumeSeriesExperimentRow {
   // has no known surface).
   double iso_rms = 0, iso_p99 = 0;  // output voxels
   double iso_rms_kept = 0;           // the same over the kept (input) steps
+  double iso_normal_rms = 0, iso_normal_p99 = 0;  // the shading normal's angle, made steps (degrees)
   long long iso_crossings = 0, iso_true_crossings = 0;
   double seconds = 0;
   long long flips = 0;

@@ -49,6 +49,41 @@ TEST_CASE("isosurface_error: a linear ramp's crossings lie on its plane - a shif
   CHECK(one_step.crossings == 8 * 6);
 }
 
+TEST_CASE("isosurface_error: the shading normal is exact on a ramp, tilted by quantization's terraces") {
+  // Values rise along x: inside (above the level) is x > plane, where the
+  // distance plane - x is negative; the picture's normal points to -x.
+  const std::array<int, 4> size{16, 8, 6, 2};
+  const double plane = 0.4;
+  const Volume v = ramp(size, plane, 2.0);
+  const IsosurfaceError along_x =
+      isosurface_error(v, 0.5, [&](double x, double, double, double) { return plane - x; });
+  CHECK(along_x.crossings == 8 * 6 * 2);
+  CHECK(along_x.normal_rms < 1e-6);
+  // With the distance's sign turned, the normal points the other way.
+  const IsosurfaceError turned = isosurface_error(v, 0.5, [&](double x, double, double, double) { return x - plane; });
+  CHECK(turned.normal_rms == doctest::Approx(180).epsilon(1e-6));
+
+  // A plane tilted in x-y, smooth and quantized to 6 levels: the terraces
+  // of the quantized one tilt its shading; where they do not reach (the
+  // smooth one) only the borders' clamped differences do.
+  const int n = 32;
+  const double a = std::cos(0.5), b = std::sin(0.5);
+  const auto distance = [&](double x, double y, double, double) { return 0.5 - (a * x + b * y); };
+  Volume smooth({n, n, 4, 1}, 1, 0.0f), terraced({n, n, 4, 1}, 1, 0.0f);
+  for (int z = 0; z < 4; ++z)
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        const double value = 0.5 - 1.5 * distance((x + 0.5) / n, (y + 0.5) / n, 0, 0);
+        smooth.at4(x, y, z, 0) = static_cast<float>(value);
+        terraced.at4(x, y, z, 0) = static_cast<float>(std::round(value * 5) / 5);
+      }
+  const IsosurfaceError fine = isosurface_error(smooth, 0.5, distance);
+  const IsosurfaceError steps = isosurface_error(terraced, 0.5, distance);
+  MESSAGE("tilted plane: normal RMS " << fine.normal_rms << " degrees smooth, " << steps.normal_rms << " terraced");
+  CHECK(fine.normal_p99 < 20);  // the border lines: a half step clamped
+  CHECK(steps.normal_rms > 3 * fine.normal_rms);
+}
+
 TEST_CASE("isosurface_error: the moving sphere sampled finely has its surface within a voxel, everywhere") {
   const VolumeSeriesField& field = find_volume_series_field("moving-sphere");
   REQUIRE(field.surface_distance);
@@ -61,6 +96,8 @@ TEST_CASE("isosurface_error: the moving sphere sampled finely has its surface wi
   CHECK(std::abs(e.crossings - e.true_crossings) < e.true_crossings / 20);
   CHECK(e.max < 1.0);
   CHECK(e.rms < 0.3);
+  MESSAGE("shading normal RMS " << e.normal_rms << " degrees, p99 " << e.normal_p99);
+  CHECK(e.normal_rms < 15);  // degrees: a ball 6 voxels across, shaded from half-voxel differences
   // An empty field has no surface, and the count says it was lost.
   const Volume empty(std::array<int, 4>{32, 32, 32, 3}, 1, 0.0f);
   const IsosurfaceError lost = isosurface_error(empty, field.iso_level, field.surface_distance);
