@@ -28,18 +28,28 @@ Mesh2 rows_mesh(int width, int top, int bottom) {
   return delaunay_triangulation(points);
 }
 
+Image random_image(int width, int height, int channels, unsigned seed) {
+  Image src(width, height, channels);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> value(0.0f, 1.0f);
+  for (float& v : src.pixels) v = value(rng);
+  return src;
+}
+
+RenderGrid enlarged_grid(int width, int height, int scale) {
+  RenderGrid grid;
+  grid.width = scale * width;
+  grid.height = scale * height;
+  grid.scale_x = grid.scale_y = scale;
+  return grid;
+}
+
 }  // namespace
 
 TEST_CASE("BandedMeshes: surfaces and added renders are the one mesh's, drawn a band at a time") {
   const int W = 23, H = 90, C = 2, scale = 3;
-  Image src(W, H, C);
-  std::mt19937 rng(3);
-  std::uniform_real_distribution<float> value(0.0f, 1.0f);
-  for (float& v : src.pixels) v = value(rng);
-  RenderGrid grid;
-  grid.width = scale * W;
-  grid.height = scale * H;
-  grid.scale_x = grid.scale_y = scale;
+  const Image src = random_image(W, H, C, 3);
+  const RenderGrid grid = enlarged_grid(W, H, scale);
   const Mesh2 whole = rows_mesh(W, 0, H);
   const RenderPlan plan(whole, grid);
   const std::vector<float> gradients = grid_gradients(src, SlopeLimiter::mc4);
@@ -118,14 +128,8 @@ TEST_CASE("BandedMeshes: a band's mesh that is not its rows' pixel grid is an er
 
 TEST_CASE("make_consistent_streamed: the surface's seconds hold every band's making, the first included") {
   const int W = 16, H = 80, C = 1, scale = 2;
-  Image src(W, H, C);
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<float> value(0.0f, 1.0f);
-  for (float& v : src.pixels) v = value(rng);
-  RenderGrid grid;
-  grid.width = scale * W;
-  grid.height = scale * H;
-  grid.scale_x = grid.scale_y = scale;
+  const Image src = random_image(W, H, C, 5);
+  const RenderGrid grid = enlarged_grid(W, H, scale);
   InputRows input(src);
   int made = 0;
   const auto pause = std::chrono::milliseconds(40);
