@@ -8,9 +8,10 @@ void add_output_options(CLI::App& app, OutputOptions& output, bool streamed) {
   app.add_option("--compression", output.encode.compression,
                  "how the output is compressed. PNG: LEVEL[:FILTER[:STRATEGY]], zlib LEVEL 0-9, FILTER none, sub, "
                  "up, avg, paeth or adaptive, zlib STRATEGY default, filtered, huffman, rle or fixed (default "
-                 "1:up:rle: fast, files about 0.6x the size of libvips'; 9:adaptive for the smallest). EXR: none, rle, zips, zip, piz, pxr24, b44, b44a, dwaa[:LEVEL], dwab[:LEVEL] "
-                 "(default piz, lossless; dwa and b44 are lossy). TIFF: none, lzw, zip[:1-9], packbits, "
-                 "jpeg[:QUALITY] (default zip)");
+                 "1:up:rle: fast, files about 0.6x the size of libvips'; 9:adaptive for the smallest). EXR: "
+                 "none, rle, zips, zip, piz, pxr24, b44, b44a, dwaa[:LEVEL], dwab[:LEVEL] (default piz, lossless; "
+                 "dwa and b44 are lossy). TIFF: none, lzw, zip[:1-9] (zip alone: level 6), packbits, "
+                 "jpeg[:QUALITY] (default zip:1)");
   app.add_option("--quality", output.encode.quality, "JPEG quality, 1 to 100 (default 90)")
       ->check(whole_number(1, 100));
   app.add_flag("--half", output.encode.half,

@@ -9,7 +9,8 @@
 //         (docs/performance.md: zlib 6 took 9x the time for 0.8x the bytes)
 //   EXR   none, rle, zips, zip, piz, pxr24, b44, b44a, dwaa, dwab, with
 //         :LEVEL for dwaa/dwab (lossy; 45 by default); default piz
-//   TIFF  none, lzw, zip[:LEVEL 1..9], packbits, jpeg[:QUALITY]; default zip
+//   TIFF  none, lzw, zip[:LEVEL 1..9] (zip alone: level 6), packbits,
+//         jpeg[:QUALITY]; default zip:1
 //   other formats refuse the option
 // quality: JPEG and WebP quality 1..100 (0: the default, 90); other formats
 //   refuse it.

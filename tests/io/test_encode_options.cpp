@@ -136,6 +136,18 @@ TEST_CASE("write_image: TIFF compression and JPEG quality reach the file") {
   write_image(dir / "a.tif", img, SampleFormat::uint8, -1, nullptr, encode);
   CHECK(spec_of(dir / "a.tif").get_string_attribute("compression") == "lzw");
   CHECK(read_image(dir / "a.tif").image.pixels == read_image(dir / "a.tif").image.pixels);
+  // The default is zip at zlib level 1; `zip` alone is level 6, smaller.
+  CHECK(default_compression("tiff") == "zip:1");
+  write_image(dir / "default.tif", img, SampleFormat::uint8);
+  EncodeOptions one, six;
+  one.compression = "zip:1";
+  six.compression = "zip";
+  write_image(dir / "one.tif", img, SampleFormat::uint8, -1, nullptr, one);
+  write_image(dir / "six.tif", img, SampleFormat::uint8, -1, nullptr, six);
+  CHECK(spec_of(dir / "default.tif").get_string_attribute("compression") == "zip");
+  CHECK(std::filesystem::file_size(dir / "default.tif") == std::filesystem::file_size(dir / "one.tif"));
+  CHECK(std::filesystem::file_size(dir / "six.tif") < std::filesystem::file_size(dir / "one.tif"));
+  CHECK(read_image(dir / "default.tif").image.pixels == read_image(dir / "six.tif").image.pixels);
   EncodeOptions low, high;
   low.quality = 20;
   high.quality = 98;
