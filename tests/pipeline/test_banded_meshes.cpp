@@ -1,10 +1,10 @@
 // BandedMeshes (pipeline/banded_meshes.hpp): the streamed reconstruction's
 // meshes made a band of rows at a time draw the one mesh's pixels.
 
+#include "consistency/consistent_reconstruction.hpp"
 #include "image/cubic_surface.hpp"
 #include "image/rasterizer.hpp"
 #include "image/triangulation.hpp"
-#include "consistency/consistent_reconstruction.hpp"
 #include "pipeline/banded_meshes.hpp"
 #include "util/error.hpp"
 
