@@ -80,8 +80,8 @@ std::string default_compression(const std::string& format_name) {
   // and smaller on photographs (docs/performance.md).
   if (format_name == "png") return "1:up:rle";
   if (format_name == "openexr") return "piz";
-  // zlib level 1: level 6 costs much of the job's time for a few percent
-  // of bytes (docs/performance.md); `zip` alone still means level 6.
+  // zlib level 1: level 6 made jobs much slower for somewhat smaller files
+  // (docs/performance.md); `zip` alone still means level 6.
   if (format_name == "tiff") return "zip:1";
   return "";
 }
