@@ -307,6 +307,7 @@ def test_upscale_file_takes_the_command_lines_file_options(textured, tmp_path):
     ddtscale.upscale_file(tmp_path / "in.ppm", full, 2, float=True, quiet=True)
     assert os.path.getsize(half) < os.path.getsize(full)
     for options, message in [(dict(quality=0), "--quality"), (dict(compression="zip"), "--compression"),
+                             (dict(compression="1:up:zigzag"), "unknown zlib strategy"),
                              (dict(half=True, float=True), "--half"), (dict(tile_size=8), "--tile-size"),
                              (dict(compare="bicubic"), "unknown option 'compare'"),
                              (dict(max_input_pixels=100), "--max-input-pixels"),
