@@ -119,8 +119,9 @@ int main(int argc, char** argv) try {
       t = std::chrono::steady_clock::now();
       core_stats = core::optimize_lawson<2>(s, values, K, cost, co);
       core_seconds.push_back(seconds_since(t));
-      core_cost = total_cost(as_mesh2(s), values, K, cost);
-      if (!check_mesh(as_mesh2(s)).empty()) throw Error("the core's result is not a valid mesh");
+      const Mesh2 core_result = as_mesh2(s);
+      if (!check_mesh(core_result).empty()) throw Error("the core's result is not a valid mesh");
+      core_cost = total_cost(core_result, values, K, cost);
     }
     const char* schedule = regions ? "regions (2 threads)" : "one region";
     std::printf("| 2D (half-edges, fast evaluator) | %s | %.3f | %lld | %lld | %.4f |\n", schedule,

@@ -1,5 +1,7 @@
 #include "eval/isosurface_error.hpp"
 
+#include "eval/volume_pictures.hpp"
+
 #include "util/error.hpp"
 
 #include <tbb/parallel_for.h>
@@ -19,37 +21,15 @@ struct Line {
   int axis;                  // 0, 1 or 2
 };
 
-// The trilinear interpolant of step l of v at voxel coordinates u (sample
-// i at i + 0.5, indices clamped): the isosurface picture's.
-double trilinear(const Volume& v, int l, const std::array<double, 3>& u) {
-  const std::array<int, 4> n = v.size();
-  int i0[3], i1[3];
-  double w[3];
-  for (int a = 0; a < 3; ++a) {
-    const double p = std::clamp(u[a] - 0.5, 0.0, n[a] - 1.0);
-    i0[a] = std::min(static_cast<int>(p), n[a] - 1);
-    i1[a] = std::min(i0[a] + 1, n[a] - 1);
-    w[a] = p - i0[a];
-  }
-  double sum = 0;
-  for (int c = 0; c < 2; ++c)
-    for (int b = 0; b < 2; ++b)
-      for (int a = 0; a < 2; ++a)
-        sum += (a ? w[0] : 1 - w[0]) * (b ? w[1] : 1 - w[1]) * (c ? w[2] : 1 - w[2]) *
-               v.at4(a ? i1[0] : i0[0], b ? i1[1] : i0[1], c ? i1[2] : i0[2], l);
-  return sum;
-}
-
 // The angle between the picture's shading normal of step l at unit-cube
 // point q and the true normal there, in degrees.
 double normal_angle(const Volume& v, int l, const std::array<double, 3>& q, double t, const SurfaceDistance& distance) {
   const std::array<int, 4> n = v.size();
-  std::array<double, 3> g{}, d{};
+  // Outward: where values fall, against the picture's gradient.
+  std::array<double, 3> g = shading_gradient(v, {q[0] * n[0], q[1] * n[1], q[2] * n[2]}, l), d{};
+  for (double& x : g) x = -x;
   const double h = 1e-4;
   for (int c = 0; c < 3; ++c) {
-    std::array<double, 3> u{q[0] * n[0], q[1] * n[1], q[2] * n[2]}, w = u;
-    u[c] += 0.5, w[c] -= 0.5;
-    g[c] = trilinear(v, l, w) - trilinear(v, l, u);  // outward: where values fall
     std::array<double, 3> a = q, b = q;
     a[c] += h, b[c] -= h;
     d[c] = distance(a[0], a[1], a[2], t) - distance(b[0], b[1], b[2], t);

@@ -9,22 +9,19 @@
 
 namespace ddt {
 
-namespace {
-
-// The trilinear interpolant of the samples at continuous point (x, y, z),
-// sample (i, j, k) at (i + 0.5, j + 0.5, k + 0.5), indices clamped.
-double trilinear_at(const Volume& v, double x, double y, double z) {
-  const double p[3] = {std::clamp(x - 0.5, 0.0, v.nx - 1.0), std::clamp(y - 0.5, 0.0, v.ny - 1.0),
-                       std::clamp(z - 0.5, 0.0, v.nz - 1.0)};
+double trilinear_at(const Volume& v, const std::array<double, 3>& u, int step) {
   const int n[3] = {v.nx, v.ny, v.nz};
   int i0[3], i1[3];
   double w[3];
   for (int a = 0; a < 3; ++a) {
-    i0[a] = std::min(static_cast<int>(p[a]), n[a] - 1);
+    const double p = std::clamp(u[a] - 0.5, 0.0, n[a] - 1.0);
+    i0[a] = std::min(static_cast<int>(p), n[a] - 1);
     i1[a] = std::min(i0[a] + 1, n[a] - 1);
-    w[a] = p[a] - i0[a];
+    w[a] = p - i0[a];
   }
-  auto at = [&](int a, int b, int c) { return double(v.at(a ? i1[0] : i0[0], b ? i1[1] : i0[1], c ? i1[2] : i0[2])); };
+  auto at = [&](int a, int b, int c) {
+    return double(v.at4(a ? i1[0] : i0[0], b ? i1[1] : i0[1], c ? i1[2] : i0[2], step));
+  };
   double sum = 0;
   for (int c = 0; c < 2; ++c)
     for (int b = 0; b < 2; ++b)
@@ -33,7 +30,16 @@ double trilinear_at(const Volume& v, double x, double y, double z) {
   return sum;
 }
 
-}  // namespace
+std::array<double, 3> shading_gradient(const Volume& v, const std::array<double, 3>& p, int step) {
+  const double h = 0.5;
+  std::array<double, 3> g{};
+  for (int c = 0; c < 3; ++c) {
+    std::array<double, 3> q1 = p, q2 = p;
+    q1[c] += h, q2[c] -= h;
+    g[c] = trilinear_at(v, q1, step) - trilinear_at(v, q2, step);
+  }
+  return g;
+}
 
 Image isosurface_view(const Volume& v, const IsoView& view, int size) {
   if (v.empty() || size < 1) throw Error("isosurface_view: empty volume or picture");
@@ -69,7 +75,7 @@ Image isosurface_view(const Volume& v, const IsoView& view, int size) {
         t1 = std::min(t1, tb);
       }
       if (t0 > t1) continue;
-      auto f = [&](double t) { return trilinear_at(v, o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]) - view.level; };
+      auto f = [&](double t) { return trilinear_at(v, {o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]}) - view.level; };
       double prev_t = t0, prev = f(t0);
       if (prev >= 0) {  // starts inside: draw the box face, flat
         out.at(col, row) = 0.35f;
@@ -83,14 +89,7 @@ Image isosurface_view(const Volume& v, const IsoView& view, int size) {
             const double m = 0.5 * (a + b);
             (f(m) >= 0 ? b : a) = m;
           }
-          const double p[3] = {o[0] + b * d[0], o[1] + b * d[1], o[2] + b * d[2]};
-          const double h = 0.5;
-          double g[3];
-          for (int c = 0; c < 3; ++c) {
-            double q1[3] = {p[0], p[1], p[2]}, q2[3] = {p[0], p[1], p[2]};
-            q1[c] += h, q2[c] -= h;
-            g[c] = trilinear_at(v, q1[0], q1[1], q1[2]) - trilinear_at(v, q2[0], q2[1], q2[2]);
-          }
+          const std::array<double, 3> g = shading_gradient(v, {o[0] + b * d[0], o[1] + b * d[1], o[2] + b * d[2]});
           const double gn = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
           // The outward normal is -g (values rise inward); the light comes from the eye.
           const double lambert = gn > 0 ? std::max(0.0, (g[0] * d[0] + g[1] * d[1] + g[2] * d[2]) / gn) : 1.0;

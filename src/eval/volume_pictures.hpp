@@ -11,6 +11,7 @@
 #include "util/image.hpp"
 #include "volume/volume.hpp"
 
+#include <array>
 #include <map>
 #include <string>
 #include <vector>
@@ -36,6 +37,14 @@ struct IsoView {
   double zoom = 1;        // 1: the picture spans the volume's bounding sphere
   int size = 0;           // picture side in compare_views (0: max(nx, ny, nz))
 };
+// The trilinear interpolant of step `step` of v (channel 0) at point p in
+// voxel units (sample i at i + 0.5, indices clamped), and the gradient the
+// isosurface picture shades with there: its central differences half a
+// voxel either side along each axis (unnormalized). isosurface_error
+// scores the same normal.
+double trilinear_at(const Volume& v, const std::array<double, 3>& p, int step = 0);
+std::array<double, 3> shading_gradient(const Volume& v, const std::array<double, 3>& p, int step = 0);
+
 // size x size grey picture in 0..1 (0 where a ray misses the surface);
 // the square spans the volume's bounding sphere divided by view.zoom.
 // Parallel over rows.
