@@ -4,6 +4,7 @@
 
 #include "batch.hpp"
 #include "commands.hpp"
+#include "file_job.hpp"
 #include "upscale_arguments.hpp"
 
 #include "eval/classic_resize.hpp"
@@ -42,7 +43,14 @@ using ddt::seconds_since;
 
 // Runs the job `args` (validate_arguments passed); returns the exit status.
 int run_upscale_job(UpscaleArguments args) {
-  try {
+  // OpenImageIO's pool reads and writes; OpenEXR compresses blocks of rows in parallel.
+  if (const int threads = ddt::usable_threads(args.threads); threads > 0) {
+    OIIO::attribute("threads", threads);
+    OIIO::attribute("exr_threads", threads);
+  }
+  if (args.compare.empty() && args.mesh_view.empty()) return run_file_job(std::move(args));
+  // --compare and --mesh-view need the whole input and output.
+  return report_failure([&] {
     ddt::check_output_path(args.output, args.input);
     ddt::PixelRegion roi;
     if (!args.mesh_roi.empty()) roi = ddt::parse_region(args.mesh_roi);
@@ -50,49 +58,15 @@ int run_upscale_job(UpscaleArguments args) {
       const bool svg = args.mesh_view.size() > 4 && args.mesh_view.substr(args.mesh_view.size() - 4) == ".svg";
       ddt::check_output_path(args.mesh_view, args.input, !svg);
     }
-    // Both cores unless --threads says otherwise (TBB for our stages, OIIO's pool for reading and writing).
     args.threads = ddt::usable_threads(args.threads);
     const auto thread_limit = ddt::limit_threads(args.threads);
-    if (args.threads > 0) {
-      OIIO::attribute("threads", args.threads);
-      OIIO::attribute("exr_threads", args.threads);  // OpenEXR compresses blocks of rows in parallel
-    }
-    // A progress bar on a terminal for runs over a second, unless --quiet.
-    ddt::Progress progress;
-    // The bar draws on its own copy of the terminal's descriptor: image I/O
-    // points stderr at /dev/null while libraries read and write
-    // (src/io/image_io.cpp), and the bar goes on through the write stage.
-    std::unique_ptr<std::FILE, int (*)(std::FILE*)> bar_out(nullptr, &std::fclose);
-    std::unique_ptr<ddt::ProgressBar> bar;
-    if (!args.quiet && ddt::ProgressBar::is_terminal(stderr)) {
-      const int terminal = ::dup(STDERR_FILENO);
-      if (terminal >= 0) bar_out.reset(::fdopen(terminal, "w"));
-      if (terminal >= 0 && !bar_out) ::close(terminal);
-      if (bar_out) {
-        std::setvbuf(bar_out.get(), nullptr, _IONBF, 0);
-        bar = std::make_unique<ddt::ProgressBar>(progress, bar_out.get());
-      }
-    }
-    auto log = [&](const std::string& line) {
-      if (!args.verbose) return;
-      if (bar) bar->print(line);
-      else std::cerr << line << "\n";
-    };
+    JobConsole console(args.quiet, args.verbose);
+    auto log = [&console](const std::string& line) { console.log(line); };
     ddt::UpscaleOptions options = upscale_options(args);
     if (args.verbose) options.log = log;
-    options.progress = &progress;
+    options.progress = &console.progress();
     const ddt::SizeRequest size = size_request(args);
-    if (args.compare.empty() && args.mesh_view.empty()) {
-      ddt::FileUpscaleJob job{args.input, args.output, size, options, args.writing.encode, !args.writing.no_stream,
-                              args.max_input_pixels, {}};
-      if (!args.quiet) job.warn = [](const std::string& line) { std::cerr << "ddtscale: warning: " << line << "\n"; };
-      const ddt::FileUpscaleResult result = ddt::upscale_file(std::move(job));
-      if (bar) bar->stop();
-      if (!args.quiet && !args.verbose) std::cerr << args.output << ": " << result.width << "x" << result.height << "\n";
-      return 0;
-    }
-    // --compare and --mesh-view need the whole input and output.
-    progress.begin("read");
+    console.progress().begin("read");
     auto t0 = std::chrono::steady_clock::now();
     int out_w = 0, out_h = 0, compare_gap = 0;
     ddt::ImageReadLimits limits;
@@ -137,23 +111,14 @@ int run_upscale_job(UpscaleArguments args) {
       log("mesh: " + args.mesh_view + ", " + std::to_string(seconds_since(t0)) + " s");
     }
     t0 = std::chrono::steady_clock::now();
-    progress.begin("write");
+    console.progress().begin("write");
     ddt::write_image(args.output, out, file.format, file.alpha_channel, &metadata, args.writing.encode);
     log("write: " + args.output + ", " + std::to_string(seconds_since(t0)) + " s");
-    if (bar) bar->stop();
+    console.stop();
     if (!args.quiet && !args.verbose)
       std::cerr << args.output << ": " << out.width << "x" << out.height << "\n";  // as written (--compare: both halves)
     return 0;
-  } catch (const ddt::Error& e) {
-    std::cerr << "ddtscale: " << e.what() << "\n";
-    return 1;
-  } catch (const std::bad_alloc&) {
-    std::cerr << "ddtscale: out of memory (try a smaller output or --max-pixels)\n";
-    return 1;
-  } catch (const std::exception& e) {
-    std::cerr << "ddtscale: " << e.what() << "\n";
-    return 1;
-  }
+  });
 }
 
 int run_upscale(int argc, char** argv) {

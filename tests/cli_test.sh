@@ -226,5 +226,31 @@ oiiotool "$work/tall.png" --tile 64 64 -o "$work/tall_tiled.tif"
 run_ok "banded tiled tif" "$work/tall_tiled.tif" "$work/bt.png" --scale 2 --model point --tile-rows 256  # w.png: point, above
 oiiotool "$work/bt.png" "$work/w.png" --diff --fail 0 >/dev/null && ok || bad "a tiled TIFF read by bands differs in its pixels"
 
+# The front: PNG to PNG without OpenImageIO (cli/front_main.cpp), the same
+# file as ddtscale-full's; the rest handed to ddtscale-full.
+full="$(dirname "$bin")/ddtscale-full"
+if readelf -d "$bin" | grep -q OpenImageIO; then bad "the front links OpenImageIO"; else ok; fi
+run_ok "front, PNG to PNG" "$work/in.png" "$work/front.png" --scale 3
+"$full" "$work/in.png" "$work/full.png" --scale 3 -q && cmp -s "$work/front.png" "$work/full.png" && ok ||
+  bad "the front's PNG differs from ddtscale-full's"
+run_ok "front, 16-bit gray PNG" "$work/grey16.png" "$work/front16.png" --scale 2
+"$full" "$work/grey16.png" "$work/full16.png" --scale 2 -q && cmp -s "$work/front16.png" "$work/full16.png" && ok ||
+  bad "the front's 16-bit PNG differs from ddtscale-full's"
+# Handed on: another output format, --compare, a subcommand's --help, a bad option.
+run_ok "front hands on EXR" "$work/in.png" "$work/front.exr" --scale 2
+run_ok "front hands on --compare" "$work/in.png" "$work/front_cmp.png" --scale 2 --compare bicubic
+"$bin" scene --help | grep -q -- "--scene\|scene" && ok || bad "front: scene --help"
+run_fail "front hands on a bad option" "$work/in.png" "$work/x.png" --no-such-option
+"$bin" --version | grep -q OpenImageIO && ok || bad "front: --version"
+# Without ddtscale-full beside it: PNG still works, the rest fails in one line.
+mkdir -p "$work/alone" && cp "$bin" "$work/alone/ddtscale"
+"$bin" "$work/in.png" "$work/front_2.png" --scale 2 -q && "$work/alone/ddtscale" "$work/in.png" "$work/alone.png" --scale 2 -q &&
+  cmp -s "$work/alone.png" "$work/front_2.png" && ok || bad "the front alone: PNG to PNG"
+saved_bin="$bin"; bin="$work/alone/ddtscale"
+run_fail "the front alone, EXR" "$work/in.png" "$work/alone.exr" --scale 2
+grep -q "cannot run .*ddtscale-full" "$work/err.txt" && ok || bad "the front alone: message $(cat "$work/err.txt")"
+[ ! -e "$work/alone.exr" ] && ok || bad "the front alone wrote an EXR"
+bin="$saved_bin"
+
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ]

@@ -9,8 +9,6 @@
 
 namespace ddt {
 
-std::vector<std::string> classic_methods() { return {"nearest", "bilinear", "bicubic", "lanczos"}; }
-
 Image classic_resize(const Image& src, int out_w, int out_h, const std::string& method) {
   std::string filter;
   if (method == "bilinear") filter = "triangle";

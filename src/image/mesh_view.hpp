@@ -16,24 +16,15 @@
 
 #include "util/image.hpp"
 #include "image/mesh.hpp"
+#include "image/pixel_region.hpp"
 
 #include <string>
 
 namespace ddt {
 
-struct PixelRegion {
-  int x = 0, y = 0, width = 0, height = 0;
-};
 
 void write_mesh_view(const std::string& path, const Mesh2& mesh, const Mesh2* initial, const Image& image,
                      PixelRegion roi = {}, int magnification = 0);
 
-// Parses "x,y,w,h"; throws ddt::Error naming the option on bad text or
-// when x + w or y + h would not fit an int.
-PixelRegion parse_region(const std::string& text);
-
-// Throws when `roi` (width 0: the whole image) leaves a width x height
-// image; called as soon as the input's size is known, before the work.
-void check_region(const PixelRegion& roi, int width, int height);
 
 }  // namespace ddt

@@ -1,15 +1,12 @@
 #include "io/band_writer.hpp"
 
+#include "io/band_queue.hpp"
 #include "io/oiio_output.hpp"
 #include "util/error.hpp"
 
 #include <algorithm>
-#include <condition_variable>
 #include <cstring>
-#include <deque>
 #include <filesystem>
-#include <mutex>
-#include <thread>
 
 namespace ddt {
 namespace {
@@ -55,18 +52,12 @@ struct ImageBandWriter::State {
   std::vector<float> pending;     // rows waiting for a full row of tiles
   int pending_first = 0;
 
-  std::thread encoder;
-  std::mutex mutex;
-  std::condition_variable changed;
-  std::deque<std::pair<Image, int>> queue;
-  bool closing = false;
-  std::string error;              // the first encoding error, or empty
+  std::unique_ptr<BandQueue> encoder;
 
   bool streaming() const { return out != nullptr; }
   void fail(const std::string& why) const { throw Error("cannot write '" + path + "': " + detail::first_line(why)); }
   void open(const OIIO::ParamValueList* meta);
   void encode_band(const Image& rows, int first);
-  void run_encoder();
 };
 
 void ImageBandWriter::State::open(const OIIO::ParamValueList* meta) {
@@ -109,35 +100,6 @@ void ImageBandWriter::State::encode_band(const Image& rows, int first) {
   }
 }
 
-void ImageBandWriter::State::run_encoder() {
-  for (;;) {
-    std::pair<Image, int> band;
-    {
-      std::unique_lock<std::mutex> lock(mutex);
-      changed.wait(lock, [&] { return !queue.empty() || closing; });
-      if (queue.empty()) return;
-      band = std::move(queue.front());
-      queue.pop_front();
-      if (!error.empty()) {  // after a failure the rest is dropped
-        changed.notify_all();
-        continue;
-      }
-    }
-    changed.notify_all();
-    std::string failure;
-    try {
-      encode_band(band.first, band.second);
-    } catch (const std::exception& e) {
-      failure = e.what();
-    }
-    if (!failure.empty()) {
-      const std::lock_guard<std::mutex> lock(mutex);
-      error = failure;
-      changed.notify_all();
-    }
-  }
-}
-
 ImageBandWriter::ImageBandWriter(const std::string& path, int width, int height, int channels,
                                  SampleFormat source_format, int alpha_channel, const OIIO::ParamValueList* metadata,
                                  const EncodeOptions& encode)
@@ -174,19 +136,12 @@ ImageBandWriter::ImageBandWriter(const std::string& path, int width, int height,
     s.metadata.remove("ICCProfile");
     s.open(&s.metadata);
   }
-  s.encoder = std::thread([&s] { s.run_encoder(); });
+  s.encoder = std::make_unique<BandQueue>([&s](const Image& rows, int first) { s.encode_band(rows, first); });
 }
 
 ImageBandWriter::~ImageBandWriter() {
   State& s = *state_;
-  if (s.encoder.joinable()) {
-    {
-      const std::lock_guard<std::mutex> lock(s.mutex);
-      s.closing = true;
-    }
-    s.changed.notify_all();
-    s.encoder.join();
-  }
+  s.encoder.reset();
   const detail::QuietLibraries quiet;  // a plugin closed early complains ("No IDATs written")
   s.out.reset();
 }
@@ -208,12 +163,7 @@ void ImageBandWriter::write(Image rows, int first_row) {
               s.whole.pixels.begin() + static_cast<std::ptrdiff_t>(s.whole.index(0, first_row)));
     return;
   }
-  std::unique_lock<std::mutex> lock(s.mutex);
-  s.changed.wait(lock, [&] { return s.queue.size() < 2 || !s.error.empty(); });
-  if (!s.error.empty()) throw Error(s.error);
-  s.queue.emplace_back(std::move(rows), first_row);
-  lock.unlock();
-  s.changed.notify_all();
+  s.encoder->push(std::move(rows), first_row);
 }
 
 void ImageBandWriter::finish() {
@@ -226,13 +176,7 @@ void ImageBandWriter::finish() {
     write_image(s.path, s.whole, s.source_format, s.alpha_channel, s.has_metadata ? &s.metadata : nullptr, s.encode);
     return;
   }
-  {
-    const std::lock_guard<std::mutex> lock(s.mutex);
-    s.closing = true;
-  }
-  s.changed.notify_all();
-  s.encoder.join();
-  if (!s.error.empty()) throw Error(s.error);
+  s.encoder->finish();
   const detail::QuietLibraries quiet;
   if (!s.out->close()) s.fail(s.out->geterror());
   s.out.reset();

@@ -24,6 +24,7 @@
 // full disk, as soon as it is seen) or from finish().
 
 #include "io/encode_options.hpp"
+#include "io/image_formats.hpp"
 #include "io/image_io.hpp"
 
 #include <memory>
@@ -31,22 +32,22 @@
 
 namespace ddt {
 
-class ImageBandWriter {
+class ImageBandWriter final : public OutputImage {
  public:
   ImageBandWriter(const std::string& path, int width, int height, int channels, SampleFormat source_format,
                   int alpha_channel = -1, const OIIO::ParamValueList* metadata = nullptr,
                   const EncodeOptions& encode = {});
-  ~ImageBandWriter();
+  ~ImageBandWriter() override;
   ImageBandWriter(const ImageBandWriter&) = delete;
   ImageBandWriter& operator=(const ImageBandWriter&) = delete;
 
   // Rows [first_row, first_row + rows.height) of the image, `width` wide,
   // `channels` channels; bands come top to bottom, each row once
   // (first_row is the row after the last one written). Throws otherwise.
-  void write(Image rows, int first_row);
+  void write(Image rows, int first_row) override;
   // Waits for the encoding, closes and renames the file over the target.
   // Every row must have been written.
-  void finish();
+  void finish() override;
 
   bool streaming() const;
 

@@ -3,7 +3,10 @@
 #include "util/error.hpp"
 #include "util/text.hpp"
 
+#include "io/image_formats.hpp"
+
 #include <png.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -70,11 +73,6 @@ int parse_png(const std::string& text, int& filter, std::string& strategy) {
 
 }  // namespace
 
-std::string output_format_name(const std::string& path) {
-  auto out = OIIO::ImageOutput::create(path);
-  return out ? std::string(out->format_name()) : std::string();
-}
-
 std::string default_compression(const std::string& format_name) {
   // rle after the up filter: faster than zlib's default strategy at level 1,
   // and smaller on photographs (docs/performance.md).
@@ -89,19 +87,17 @@ std::string default_compression(const std::string& format_name) {
 void check_encode_options(const std::string& path, const EncodeOptions& options) {
   // The sample type is known once the input's header is read
   // (check_image_writable); here the choices are checked by name.
-  OIIO::ImageSpec scratch(1, 1, 3, options.half ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
-  apply_encode_options(output_format_name(path), options, scratch);
+  check_encode_choice(output_format_name(path), options, options.half);
 }
 
-void apply_encode_options(const std::string& format_name, const EncodeOptions& options, OIIO::ImageSpec& spec) {
-  const std::string& format = format_name;
+void check_encode_choice(const std::string& format, const EncodeOptions& options, bool float_samples) {
   const std::string shown = format == "openexr" ? "EXR" : format.empty() ? "this format" : format;
   if (!options.compression.empty() && default_compression(format).empty())
     throw Error("--compression: " + shown + " output has no compression choice (PNG, EXR and TIFF do)");
   if (options.quality != 0 && format != "jpeg")
     throw Error("--quality is for JPEG output (TIFF: --compression jpeg:QUALITY)");
   if (options.quality < 0 || options.quality > 100) throw Error("--quality must be a whole number from 1 to 100");
-  const bool float_tiff = format == "tiff" && spec.format.basetype == OIIO::TypeDesc::FLOAT;
+  const bool float_tiff = format == "tiff" && float_samples;
   if (options.half && format != "openexr" && !float_tiff)
     throw Error("--half is for EXR output (and TIFF of float images)");
   if (options.full_float && format != "openexr") throw Error("--float is for EXR output");
@@ -110,24 +106,11 @@ void apply_encode_options(const std::string& format_name, const EncodeOptions& o
     throw Error("--tile-size is for TIFF and EXR output");
   if (options.tile != 0 && (options.tile < 16 || options.tile % 16 != 0 || options.tile > 65536))
     throw Error("--tile-size must be a multiple of 16 from 16 to 65536");
-  if (options.tile != 0) {
-    spec.tile_width = spec.tile_height = options.tile;
-    spec.tile_depth = 1;
-  }
-  if (format == "jpeg") {
-    const int quality = options.quality > 0 ? options.quality : 90;
-    spec.attribute("compression", "jpeg:" + std::to_string(quality));
-    spec.attribute("CompressionQuality", quality);
-    return;
-  }
+  if (format == "jpeg") return;
   const std::string text = options.compression.empty() ? default_compression(format) : options.compression;
   if (text.empty()) return;
   if (format == "png") {
-    int filter = PNG_FILTER_UP;
-    std::string strategy;
-    spec.attribute("png:compressionLevel", parse_png(text, filter, strategy));
-    spec.attribute("png:filter", filter);
-    spec.attribute("compression", strategy);
+    png_encoding(options);
   } else if (format == "openexr") {
     std::string name;
     const int level = split_level(text, name, -1, 1, 999, "the DWA level");
@@ -135,10 +118,6 @@ void apply_encode_options(const std::string& format_name, const EncodeOptions& o
       throw Error("--compression " + text + ": EXR compression is one of " + joined(exr_compressions));
     if (level >= 0 && name != "dwaa" && name != "dwab")
       throw Error("--compression " + text + ": only dwaa and dwab take a level");
-    spec.attribute("compression", name);
-    if (level >= 0) spec.attribute("openexr:dwaCompressionLevel", static_cast<float>(level));
-    if (options.half) spec.set_format(OIIO::TypeDesc::HALF);
-    if (options.full_float) spec.set_format(OIIO::TypeDesc::FLOAT);
   } else if (format == "tiff") {
     std::string name;
     const int level = split_level(text, name, -1, 1, 100, "the level");
@@ -147,13 +126,31 @@ void apply_encode_options(const std::string& format_name, const EncodeOptions& o
     if (level >= 0 && name != "zip" && name != "jpeg")
       throw Error("--compression " + text + ": only zip (1 to 9) and jpeg (quality 1 to 100) take a level");
     if (name == "zip" && level > 9) throw Error("--compression " + text + ": the zip level must be from 1 to 9");
-    if (name == "jpeg" && spec.format.basetype != OIIO::TypeDesc::UINT8 && spec.format.size() > 1)
-      throw Error("--compression jpeg: TIFF stores JPEG for 8-bit images only");
-    spec.attribute("compression", name);
-    if (name == "zip") spec.attribute("tiff:zipquality", level >= 0 ? level : 6);
-    if (name == "jpeg") spec.attribute("CompressionQuality", level >= 0 ? level : 90);
-    if (options.half) spec.set_format(OIIO::TypeDesc::HALF);
   }
+}
+
+PngEncoding png_encoding(const EncodeOptions& options) {
+  const std::string text = options.compression.empty() ? default_compression("png") : options.compression;
+  PngEncoding e;
+  e.filter = PNG_FILTER_UP;
+  e.level = parse_png(text, e.filter, e.strategy_name);
+  const int strategies[] = {Z_DEFAULT_STRATEGY, Z_FILTERED, Z_HUFFMAN_ONLY, Z_RLE, Z_FIXED};
+  for (std::size_t i = 0; i < png_strategies.size(); ++i)
+    if (png_strategies[i] == e.strategy_name) e.strategy = strategies[i];
+  return e;
+}
+
+NamedCompression named_compression(const std::string& format, const EncodeOptions& options) {
+  check_encode_choice(format, options, false);
+  const std::string text = options.compression.empty() ? default_compression(format) : options.compression;
+  NamedCompression c;
+  if (format == "openexr") c.level = split_level(text, c.name, -1, 1, 999, "the DWA level");
+  if (format == "tiff") {
+    c.level = split_level(text, c.name, -1, 1, 100, "the level");
+    if (c.name == "zip" && c.level < 0) c.level = 6;
+    if (c.name == "jpeg" && c.level < 0) c.level = 90;
+  }
+  return c;
 }
 
 }  // namespace ddt

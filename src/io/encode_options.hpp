@@ -1,6 +1,7 @@
 #pragma once
 // How an output image is encoded: compression, quality and sample type,
-// per format, handed to OpenImageIO's writers as ImageSpec attributes.
+// per format; checked here, handed to OpenImageIO's writers as ImageSpec
+// attributes (image_io.cpp) or to libpng (png_file.cpp).
 //
 // compression (empty: the format's default, default_compression):
 //   PNG   LEVEL[:FILTER[:STRATEGY]], LEVEL 0..9 (zlib), FILTER none, sub,
@@ -27,8 +28,6 @@
 // Errors: check_encode_options throws ddt::Error with a one-line message
 // naming the option and what it accepts.
 
-#include <OpenImageIO/imageio.h>
-
 #include <string>
 
 namespace ddt {
@@ -41,19 +40,32 @@ struct EncodeOptions {
   int tile = 0;
 };
 
-// OpenImageIO's format name of an output path ("png", "openexr", "tiff",
-// "jpeg", ...), or "" when no format claims its extension.
-std::string output_format_name(const std::string& path);
-
 // The compression used when none is given ("" for formats without one).
 std::string default_compression(const std::string& format_name);
 
-// Throws unless `options` suit the output format of `path`.
+// Throws unless `options` suit the output format of `path`
+// (output_format_name, image_formats.hpp).
 void check_encode_options(const std::string& path, const EncodeOptions& options);
 
-// Sets the attributes of `options` (checked) on `spec` for `format_name`;
-// the sample type follows `half` and `full_float` for EXR. Call after the
-// spec's format is set.
-void apply_encode_options(const std::string& format_name, const EncodeOptions& options, OIIO::ImageSpec& spec);
+// Throws unless `options` suit `format_name` (OpenImageIO's name: "png",
+// "openexr", "tiff", ...) for samples that are floats (float_samples) or
+// integers.
+void check_encode_choice(const std::string& format_name, const EncodeOptions& options, bool float_samples);
+
+// PNG's choices (checked) as libpng takes them: zlib level and strategy,
+// the filter flags.
+struct PngEncoding {
+  int level = 1, filter = 0, strategy = 0;
+  std::string strategy_name;  // OpenImageIO's name of the strategy
+};
+PngEncoding png_encoding(const EncodeOptions& options);
+
+// EXR's and TIFF's choice (checked): the compression's name and its level
+// or quality (-1: none given; TIFF's zip alone: 6, jpeg alone: 90).
+struct NamedCompression {
+  std::string name;
+  int level = -1;
+};
+NamedCompression named_compression(const std::string& format_name, const EncodeOptions& options);
 
 }  // namespace ddt

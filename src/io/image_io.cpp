@@ -197,7 +197,14 @@ ImageRowReader::ImageRowReader(const std::string& path, const ImageReadLimits& l
   in_ = open_checked(path, limits, false, file_);
   const OIIO::ImageSpec& spec = in_->spec();
   header_ = ImageHeader{spec.width, spec.height, spec.nchannels, file_.format, file_.alpha_channel};
-  file_.pages = spec.get_int_attribute("oiio:subimages", 1);
+  // Counted as read_image counts them, by a second reader: a failed seek
+  // can leave a plugin (TIFF) unable to read the first page.
+  file_.pages = spec.get_int_attribute("oiio:subimages", 0);
+  if (file_.pages < 1) {
+    const QuietLibraries quiet;
+    auto probe = OIIO::ImageInput::open(path);
+    file_.pages = probe && probe->seek_subimage(1, 0) ? 2 : 1;
+  }
 }
 
 ImageRowReader::~ImageRowReader() = default;
@@ -227,25 +234,45 @@ void ImageRowReader::read(int first, int end, float* rows) {
   check_decoded(*in_, ok, path_, rows, rows + row_floats * (end - first));
 }
 
-void check_output_path(const std::string& output, const std::string& input, bool image_format) {
-  std::error_code ec;
-  if (output.empty()) throw Error("no output file given");
-  if (!input.empty()) check_not_an_input(output, {input});
-  if (!input.empty() && fs::weakly_canonical(output, ec) == fs::weakly_canonical(input, ec))
-    throw Error("output '" + output + "' is the input file; refusing to overwrite it");
-  const fs::path target = resolve_output_link(output);  // a symlink: the file it points to is replaced
-  if (fs::is_directory(target, ec)) throw Error("output '" + output + "' is a directory");
-  fs::path dir = target.parent_path();
-  if (dir.empty()) dir = ".";
-  if (!fs::is_directory(dir, ec)) throw Error("output directory '" + dir.string() + "' does not exist");
-  if (::access(dir.c_str(), W_OK) != 0) throw Error("output directory '" + dir.string() + "' is not writable");
-  if (!image_format) return;
-  auto probe = OIIO::ImageOutput::create(output);
-  if (!probe) throw Error("cannot write '" + output + "': no image format for extension '" +
-                          fs::path(output).extension().string() + "'");
-}
-
 namespace {
+
+// `options` (checked) as the attributes of `spec` for `format`; the sample
+// type follows --half and --float for EXR. After the spec's format is set.
+void apply_encode_options(const std::string& format, const EncodeOptions& options, OIIO::ImageSpec& spec) {
+  check_encode_choice(format, options, spec.format.basetype == OIIO::TypeDesc::FLOAT);
+  if (options.tile != 0) {
+    spec.tile_width = spec.tile_height = options.tile;
+    spec.tile_depth = 1;
+  }
+  if (format == "jpeg") {
+    const int quality = options.quality > 0 ? options.quality : 90;
+    spec.attribute("compression", "jpeg:" + std::to_string(quality));
+    spec.attribute("CompressionQuality", quality);
+    return;
+  }
+  if (default_compression(format).empty()) return;
+  if (format == "png") {
+    const PngEncoding png = png_encoding(options);
+    spec.attribute("png:compressionLevel", png.level);
+    spec.attribute("png:filter", png.filter);
+    spec.attribute("compression", png.strategy_name);
+    return;
+  }
+  const NamedCompression c = named_compression(format, options);
+  if (format == "openexr") {
+    spec.attribute("compression", c.name);
+    if (c.level >= 0) spec.attribute("openexr:dwaCompressionLevel", static_cast<float>(c.level));
+    if (options.half) spec.set_format(OIIO::TypeDesc::HALF);
+    if (options.full_float) spec.set_format(OIIO::TypeDesc::FLOAT);
+  } else if (format == "tiff") {
+    if (c.name == "jpeg" && spec.format.basetype != OIIO::TypeDesc::UINT8 && spec.format.size() > 1)
+      throw Error("--compression jpeg: TIFF stores JPEG for 8-bit images only");
+    spec.attribute("compression", c.name);
+    if (c.name == "zip") spec.attribute("tiff:zipquality", c.level);
+    if (c.name == "jpeg") spec.attribute("CompressionQuality", c.level);
+    if (options.half) spec.set_format(OIIO::TypeDesc::HALF);
+  }
+}
 
 OIIO::ImageSpec output_spec(const std::string& path, int width, int height, int channels, SampleFormat source_format,
                             int alpha_channel, const OIIO::ImageOutput& out, const EncodeOptions& encode) {

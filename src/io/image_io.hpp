@@ -9,6 +9,8 @@
 // one. Inputs must be regular files (devices and FIFOs are refused).
 
 #include "util/image.hpp"
+#include "io/image_header.hpp"
+#include "io/image_formats.hpp"
 #include "io/encode_options.hpp"
 #include "io/safe_file.hpp"
 #include "util/size_limits.hpp"
@@ -22,9 +24,6 @@
 
 namespace ddt {
 
-// How samples were stored in the file; used to pick the output depth.
-enum class SampleFormat { uint8, uint16, half, float32 };
-
 struct ImageFile {
   Image image;                             // float samples as stored (uint scaled to 0..1)
   SampleFormat format = SampleFormat::uint8;
@@ -37,24 +36,6 @@ struct ImageFile {
   // (int[2]) and "ddtscale:display_window" (int[4]: x, y, width, height).
   OIIO::ParamValueList metadata;
   int pages = 1;                           // subimages (TIFF pages, EXR parts); only the first is read
-};
-
-// What an image file's header says, before any pixel is decoded.
-struct ImageHeader {
-  int width = 0, height = 0, channels = 0;
-  SampleFormat format = SampleFormat::uint8;
-  int alpha_channel = -1;
-};
-
-// Limits on what read_image decodes (size_limits.hpp). The header's size is
-// checked before any pixel is decoded: width x height (and a tile's) against
-// max_pixels, the decoded floats against the memory available; then
-// `check`, when set, sees the header and may throw (the CLI sizes its whole
-// job there: output size, output format, memory).
-struct ImageReadLimits {
-  long long max_pixels = default_max_input_pixels();
-  std::string option = "--max-input-pixels";  // named in the refusal
-  std::function<void(const ImageHeader&)> check;
 };
 
 // Reads any image OpenImageIO reads (first subimage, first MIP level).
@@ -113,12 +94,6 @@ std::vector<unsigned char> encode_png(const Image& image);
 // Conversions between ddt::Image and OpenImageIO's ImageBuf (float).
 Image image_from_buf(const OIIO::ImageBuf& buf);
 OIIO::ImageBuf buf_from_image(const Image& image);
-
-// Throws if `output` cannot be written: same file as `input`, or a directory
-// that does not exist or is not writable, or (when image_format) an
-// extension no image format claims. Called before any long work.
-// A symlink output is checked at the file it points to (safe_file.hpp).
-void check_output_path(const std::string& output, const std::string& input, bool image_format = true);
 
 // Throws when `path`'s format cannot store a width x height image of
 // `channels` channels from `source_format` samples (channel count, type,

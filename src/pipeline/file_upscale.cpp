@@ -2,8 +2,7 @@
 
 #include "consistency/consistent_reconstruction.hpp"
 #include "image/image_mesh.hpp"
-#include "io/band_writer.hpp"
-#include "io/image_io.hpp"
+#include "io/image_formats.hpp"
 #include "pipeline/banded_upscale.hpp"
 #include "pipeline/upscale.hpp"
 #include "util/size_limits.hpp"
@@ -26,6 +25,8 @@ auto file_step(Step&& io) {
     return io();
   } catch (const FileError&) {
     throw;
+  } catch (const NeedsOpenImageIO&) {
+    throw;
   } catch (const Error& e) {
     throw FileError(e.what());
   }
@@ -35,14 +36,10 @@ void log_line(const UpscaleOptions& options, const std::string& line) {
   if (options.log) options.log(line);
 }
 
-// The writer the enlargement hands its bands of rows to (io/band_writer.hpp).
-std::unique_ptr<ImageBandWriter> stream_into(const FileUpscaleJob& job, const FileUpscaleResult& result,
-                                             UpscaleOptions& options, int channels, SampleFormat format,
-                                             int alpha_channel, const OIIO::ParamValueList& metadata) {
-  auto writer = file_step([&] {
-    return std::make_unique<ImageBandWriter>(job.output, result.width, result.height, channels, format, alpha_channel,
-                                             &metadata, job.encode);
-  });
+// The writer the enlargement hands its bands of rows to (image_formats.hpp).
+std::unique_ptr<OutputImage> stream_into(const FileUpscaleJob& job, const FileUpscaleResult& result,
+                                         UpscaleOptions& options, InputImage& input) {
+  auto writer = file_step([&] { return input.create_output(job.output, result.width, result.height, job.encode); });
   options.output_rows = [w = writer.get()](Image rows, int first_row) {
     file_step([&] { w->write(std::move(rows), first_row); });
   };
@@ -130,8 +127,7 @@ FileUpscaleResult upscale_file(FileUpscaleJob job) {
   limits.check = [&](const ImageHeader& header) {
     try {
       output_size(job.size, header.width, header.height, result.width, result.height);
-      check_image_writable(job.output, result.width, result.height, header.channels, header.format,
-                           header.alpha_channel, job.encode);
+      check_output_image(job.output, result.width, result.height, header, job.encode);
       const double whole = upscale_job_bytes(header.width, header.height, header.channels, result.width,
                                              result.height, options, job.stream);
       const bool can_band = job.stream && can_upscale_by_bands(header.width, header.height, options);
@@ -155,6 +151,8 @@ FileUpscaleResult upscale_file(FileUpscaleJob job) {
         banded = can_band && (options.tile_rows > 0 || whole > 0.9 * double(available_memory()));
       }
       if (!banded) check_memory_fits("this job", whole);
+    } catch (const NeedsOpenImageIO&) {
+      throw;
     } catch (const Error& e) {
       job_error = e;
       throw;
@@ -163,29 +161,28 @@ FileUpscaleResult upscale_file(FileUpscaleJob job) {
   auto read_step = [&](auto&& read) {
     try {
       return file_step(read);
+    } catch (const NeedsOpenImageIO&) {
+      throw;
     } catch (const Error&) {
       if (job_error) throw Error(job_error->what());
       throw;
     }
   };
-  auto reader = read_step([&] { return std::make_unique<ImageRowReader>(job.input, limits); });
-  ImageFile file;
-  std::unique_ptr<ImageBandWriter> writer;
-  const ImageHeader header = reader->header();
+  const std::unique_ptr<InputImage> input = read_step([&] { return open_input_image(job.input, limits); });
+  const ImageHeader header = input->header();
+  warn_of_pages(job, input->pages());
+  options.alpha_channel = header.alpha_channel;
   const bool by_rows = !banded && job.stream &&
                        upscale_reads_by_rows(header.width, header.height, header.channels, result.width,
                                              result.height, options);
+  const std::string size =
+      std::to_string(header.width) + "x" + std::to_string(header.height) + "x" + std::to_string(header.channels);
+  std::unique_ptr<OutputImage> writer;
   if (banded || by_rows) {
-    warn_of_pages(job, reader->file().pages);
-    options.alpha_channel = header.alpha_channel;
-    const OIIO::ParamValueList metadata = scaled_metadata(reader->file().metadata, double(result.width) / header.width,
-                                                          double(result.height) / header.height);
-    writer = stream_into(job, result, options, header.channels, header.format, header.alpha_channel, metadata);
-    ImageRowReader& rows = *reader;
+    writer = stream_into(job, result, options, *input);
+    InputImage& rows = *input;
     const RowSource source{header.width, header.height, header.channels,
                            [&rows](int first, int end, float* p) { file_step([&] { rows.read(first, end, p); }); }};
-    const std::string size =
-        std::to_string(header.width) + "x" + std::to_string(header.height) + "x" + std::to_string(header.channels);
     if (by_rows) {
       // One pass down the image, its input read a window of rows at a time.
       log_line(options, "read by rows: " + job.input + ", " + size);
@@ -205,26 +202,25 @@ FileUpscaleResult upscale_file(FileUpscaleJob job) {
                             std::to_string(seconds_since(t0)) + " s");
     }
   } else {
-    reader.reset();
-    limits.check = [&](const ImageHeader& header) {
-      check_memory_fits("this job", upscale_job_bytes(header.width, header.height, header.channels, result.width,
-                                                      result.height, options, job.stream));
-    };
-    file = read_step([&] { return read_image(job.input, limits); });
-    log_line(options, "read: " + job.input + ", " + std::to_string(file.image.width) + "x" +
-                          std::to_string(file.image.height) + "x" + std::to_string(file.image.channels) + ", " +
-                          std::to_string(seconds_since(t0)) + " s");
-    warn_of_pages(job, file.pages);
-    options.alpha_channel = file.alpha_channel;
-    const OIIO::ParamValueList metadata = scaled_metadata(file.metadata, double(result.width) / file.image.width,
-                                                          double(result.height) / file.image.height);
-    if (job.stream)
-      writer = stream_into(job, result, options, file.image.channels, file.format, file.alpha_channel, metadata);
-    const Image out = upscale(file.image, result.width, result.height, options, &result.stats);
+    check_memory_fits("this job", upscale_job_bytes(header.width, header.height, header.channels, result.width,
+                                                    result.height, options, job.stream));
+    Image image(header.width, header.height, header.channels);
+    read_step([&] {
+      input->read(0, header.height, image.pixels.data());
+      return 0;
+    });
+    log_line(options, "read: " + job.input + ", " + size + ", " + std::to_string(seconds_since(t0)) + " s");
+    if (job.stream) writer = stream_into(job, result, options, *input);
+    Image out = upscale(image, result.width, result.height, options, &result.stats);
     if (!writer) {
       if (options.progress) options.progress->begin("write");
       const auto t1 = std::chrono::steady_clock::now();
-      file_step([&] { write_image(job.output, out, file.format, file.alpha_channel, &metadata, job.encode); });
+      file_step([&] {
+        auto whole = input->create_output(job.output, result.width, result.height, job.encode);
+        whole->write(std::move(out), 0);
+        whole->finish();
+        return 0;
+      });
       log_line(options, "write: " + job.output + ", " + std::to_string(seconds_since(t1)) + " s");
       return result;
     }

@@ -1,0 +1,57 @@
+// ddtscale — the command's front. The commonest job, a PNG enlarged into a
+// PNG, runs here through libpng alone (io/png_file.hpp): this program does
+// not load OpenImageIO, whose start takes 0.3 s and 130 MB. Every other
+// command line (other formats, subcommands, --compare, --mesh, batches,
+// --help, errors) is run again, unchanged, as ddtscale-full beside this
+// program (cli/main.cpp), before anything is written. Both give the same
+// files and messages.
+
+#include "file_job.hpp"
+#include "upscale_arguments.hpp"
+
+#include "io/image_formats.hpp"
+#include "util/allocator_tuning.hpp"
+#include "util/error.hpp"
+#include "util/file_names.hpp"
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <string>
+
+#include <unistd.h>
+
+namespace {
+
+[[noreturn]] void run_full(char** argv) {
+  std::error_code ec;
+  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
+  const std::string full = (ec ? std::filesystem::path(".") : self.parent_path()) / "ddtscale-full";
+  ::execv(full.c_str(), argv);
+  std::cerr << "ddtscale: cannot run " << full << ": " << std::strerror(errno) << "\n";
+  std::exit(1);
+}
+
+bool png_path(const std::string& path) {
+  return ddt::lower_extension(path) == ".png" && path.find('%') == std::string::npos;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const UpscaleCommandLine line = parse_upscale_command_line(argc, argv);
+  const UpscaleArguments& args = line.args;
+  if (line.action != UpscaleCommandLine::Action::run || !png_path(args.input) || !png_path(args.output) ||
+      !args.compare.empty() || !args.mesh_view.empty())
+    run_full(argv);
+  ddt::tune_allocator(ddt::AllocatorUse::equal_bands);
+  try {
+    validate_arguments(args);
+    return run_file_job(args);
+  } catch (const ddt::NeedsOpenImageIO&) {
+    run_full(argv);
+  } catch (const ddt::Error&) {
+    run_full(argv);  // its message, in ddtscale-full's words
+  }
+}

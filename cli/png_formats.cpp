@@ -1,0 +1,32 @@
+// The `ddtscale` front's image formats (io/image_formats.hpp): PNG through
+// libpng only. Anything else throws NeedsOpenImageIO before a byte is
+// written, and the front runs its command line again as ddtscale-full.
+
+#include "io/image_formats.hpp"
+#include "io/png_images.hpp"
+#include "util/file_names.hpp"
+
+namespace ddt {
+
+std::unique_ptr<InputImage> open_input_image(const std::string& path, const ImageReadLimits& limits) {
+  auto png = PngReader::open(path, limits);
+  if (!png) throw NeedsOpenImageIO("'" + path + "' is not a PNG read without OpenImageIO");
+  return std::make_unique<PngInputImage>(
+      std::move(png), [](const std::string& output, int, int, const ImageHeader&, const PngMetadata&,
+                         const EncodeOptions&) -> std::unique_ptr<OutputImage> {
+        throw NeedsOpenImageIO("'" + output + "' is not a PNG written without OpenImageIO");
+      });
+}
+
+void check_output_image(const std::string& path, int width, int height, const ImageHeader& source,
+                        const EncodeOptions& encode) {
+  if (source.alpha_channel >= 0 || !png_writes(path, width, height, source.channels, encode))
+    throw NeedsOpenImageIO("'" + path + "' is not a PNG written without OpenImageIO");
+}
+
+std::string output_format_name(const std::string& path) {
+  if (lower_extension(path) == ".png") return "png";
+  throw NeedsOpenImageIO("'" + path + "' is not a PNG");
+}
+
+}  // namespace ddt

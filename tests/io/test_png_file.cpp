@@ -1,0 +1,320 @@
+// PNG through libpng alone (io/png_file.hpp) against OpenImageIO's PNG
+// plugin: the same floats read, the same bytes written, the same metadata
+// carried; and what is left to OpenImageIO.
+
+#include "io/image_io.hpp"
+#include "io/png_file.hpp"
+#include "io/png_images.hpp"
+#include "util/error.hpp"
+
+#include "test_support.hpp"
+
+#include <doctest/doctest.h>
+#include <png.h>
+
+#include <csetjmp>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <random>
+#include <string>
+#include <vector>
+
+using namespace ddt;
+using ddt::test::TempDir;
+
+namespace {
+
+// A PNG as libpng writes it, with the chunks a test asks for.
+struct PngRecipe {
+  int width = 13, height = 9;
+  int colour = PNG_COLOR_TYPE_RGB;
+  int depth = 8;
+  bool interlaced = false;
+  bool transparency = false;  // tRNS
+  bool profile = false;       // iCCP
+  bool time = false;
+  int resolution_unit = -1;   // pHYs: PNG_RESOLUTION_METER or _UNKNOWN; -1: none
+  std::vector<std::pair<std::string, std::string>> text;
+  unsigned seed = 1;
+};
+
+int channels_of(int colour) {
+  return colour == PNG_COLOR_TYPE_GRAY ? 1 : colour == PNG_COLOR_TYPE_GRAY_ALPHA ? 2 : colour == PNG_COLOR_TYPE_RGB ? 3
+         : colour == PNG_COLOR_TYPE_RGB_ALPHA                                   ? 4
+                                                                               : 1;
+}
+
+bool write_recipe(std::FILE* file, const PngRecipe& r, std::vector<std::vector<unsigned char>>& rows,
+                  std::vector<png_text>& text) {
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png_create_info_struct(png);
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    return false;
+  }
+  png_init_io(png, file);
+  png_set_IHDR(png, info, r.width, r.height, r.depth, r.colour,
+               r.interlaced ? PNG_INTERLACE_ADAM7 : PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+               PNG_FILTER_TYPE_DEFAULT);
+  png_color palette[16];
+  for (int i = 0; i < 16; ++i) palette[i] = {png_byte(i * 16), png_byte(255 - i * 9), png_byte(i * 5 + 3)};
+  if (r.colour == PNG_COLOR_TYPE_PALETTE) png_set_PLTE(png, info, palette, 1 << std::min(r.depth, 4));
+  png_color_16 transparent{};
+  png_byte alpha[1] = {0};
+  if (r.transparency && r.colour == PNG_COLOR_TYPE_PALETTE) png_set_tRNS(png, info, alpha, 1, nullptr);
+  else if (r.transparency) png_set_tRNS(png, info, nullptr, 0, &transparent);
+  // The smallest profile libpng takes: a 128-byte header and no tags.
+  std::vector<png_byte> icc(132, 0);
+  auto put = [&](int at, const char* four) { std::copy(four, four + 4, icc.begin() + at); };
+  icc[3] = 132;
+  icc[8] = 2, icc[9] = 0x10;
+  put(12, "mntr"), put(16, "RGB "), put(20, "XYZ "), put(36, "acsp");
+  const png_byte d50[12] = {0, 0, 0xf6, 0xd6, 0, 1, 0, 0, 0, 0, 0xd3, 0x2d};
+  std::copy(d50, d50 + 12, icc.begin() + 68);
+  if (r.profile) png_set_iCCP(png, info, "test", 0, icc.data(), png_uint_32(icc.size()));
+  png_time when{2017, 8, 12, 9, 43, 55};
+  if (r.time) png_set_tIME(png, info, &when);
+  if (r.resolution_unit >= 0) png_set_pHYs(png, info, 11811, 2835, r.resolution_unit);
+  if (!text.empty()) png_set_text(png, info, text.data(), int(text.size()));
+  png_set_option(png, PNG_SKIP_sRGB_CHECK_PROFILE, PNG_OPTION_ON);
+  png_write_info(png, info);
+  const int passes = png_set_interlace_handling(png);
+  for (int pass = 0; pass < passes; ++pass)
+    for (auto& row : rows) png_write_row(png, row.data());
+  png_write_end(png, info);
+  png_destroy_write_struct(&png, &info);
+  return true;
+}
+
+void make_png(const std::string& path, const PngRecipe& r) {
+  std::mt19937 rng(r.seed);
+  const int bits = r.depth * channels_of(r.colour);
+  const std::size_t row_bytes = (std::size_t(r.width) * bits + 7) / 8;
+  std::vector<std::vector<unsigned char>> rows(r.height, std::vector<unsigned char>(row_bytes));
+  for (auto& row : rows)
+    for (auto& b : row) b = static_cast<unsigned char>(rng());
+  if (r.colour == PNG_COLOR_TYPE_PALETTE && r.depth == 8)
+    for (auto& row : rows)
+      for (auto& b : row) b &= 15;  // within the palette
+  std::vector<png_text> text;
+  for (const auto& [key, value] : r.text) {
+    png_text t{};
+    t.compression = PNG_TEXT_COMPRESSION_NONE;
+    t.key = const_cast<char*>(key.c_str());
+    t.text = const_cast<char*>(value.c_str());
+    text.push_back(t);
+  }
+  std::FILE* file = std::fopen(path.c_str(), "wb");
+  REQUIRE(file);
+  const bool ok = write_recipe(file, r, rows, text);
+  std::fclose(file);
+  REQUIRE(ok);
+}
+
+std::vector<char> bytes_of(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Writes `image` through libpng alone, as the file pipeline does.
+void write_natively(const std::string& path, const Image& image, SampleFormat format, const PngMetadata* metadata,
+                    const EncodeOptions& encode) {
+  auto out = create_png_output(path, image.width, image.height, image.channels, format, metadata, encode);
+  // In two bands, as the pipeline hands them.
+  const int half = image.height / 2;
+  Image top(image.width, half, image.channels), bottom(image.width, image.height - half, image.channels);
+  std::copy(image.pixels.begin(), image.pixels.begin() + std::ptrdiff_t(top.pixels.size()), top.pixels.begin());
+  std::copy(image.pixels.begin() + std::ptrdiff_t(top.pixels.size()), image.pixels.end(), bottom.pixels.begin());
+  out->write(std::move(top), 0);
+  out->write(std::move(bottom), half);
+  out->finish();
+}
+
+// Samples on and beside the rounding boundaries of 8 and 16 bits, and
+// outside 0..1.
+Image awkward_values(int width, int height, int channels, unsigned seed) {
+  Image image(width, height, channels);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(-0.05f, 1.05f);
+  std::uniform_int_distribution<int> code(0, 255);
+  for (std::size_t i = 0; i < image.pixels.size(); ++i) {
+    float v = u(rng);
+    if (i % 3 == 0) v = (code(rng) + 0.5f) / 255.0f;
+    if (i % 7 == 0) v = std::nextafter(v, i % 2 ? 2.0f : -1.0f);
+    if (i % 11 == 0) v = code(rng) * (1.0f / 255.0f);
+    image.pixels[i] = v;
+  }
+  return image;
+}
+
+}  // namespace
+
+TEST_CASE("PngReader: the floats, size and sample type OpenImageIO reads, by bands and again from the top") {
+  const TempDir dir;
+  struct Kind {
+    int colour, depth;
+  };
+  for (const Kind k : {Kind{PNG_COLOR_TYPE_RGB, 8}, Kind{PNG_COLOR_TYPE_RGB, 16}, Kind{PNG_COLOR_TYPE_GRAY, 8},
+                       Kind{PNG_COLOR_TYPE_GRAY, 16}, Kind{PNG_COLOR_TYPE_GRAY, 1}, Kind{PNG_COLOR_TYPE_GRAY, 2},
+                       Kind{PNG_COLOR_TYPE_GRAY, 4}, Kind{PNG_COLOR_TYPE_PALETTE, 8},
+                       Kind{PNG_COLOR_TYPE_PALETTE, 4}}) {
+    CAPTURE(k.colour);
+    CAPTURE(k.depth);
+    PngRecipe r;
+    r.colour = k.colour, r.depth = k.depth, r.seed = unsigned(k.colour * 100 + k.depth);
+    const std::string path = dir / "in.png";
+    make_png(path, r);
+    const ImageFile expected = read_image(path);
+    auto reader = PngReader::open(path);
+    REQUIRE(reader);
+    const ImageHeader& h = reader->header();
+    CHECK(h.width == expected.image.width);
+    CHECK(h.height == expected.image.height);
+    CHECK(h.channels == expected.image.channels);
+    CHECK(h.format == expected.format);
+    CHECK(h.alpha_channel == -1);
+    std::vector<float> rows(expected.image.pixels.size());
+    const std::size_t row = std::size_t(h.width) * h.channels;
+    reader->read(0, 4, rows.data());
+    reader->read(4, h.height, rows.data() + 4 * row);
+    CHECK(rows == expected.image.pixels);
+    std::vector<float> again(2 * row);
+    reader->read(2, 4, again.data());  // above the last row read: decoded again from the top
+    CHECK(std::equal(again.begin(), again.end(), expected.image.pixels.begin() + std::ptrdiff_t(2 * row)));
+  }
+}
+
+TEST_CASE("PngReader: alpha, transparency, interlacing, profiles and special text are left to OpenImageIO") {
+  const TempDir dir;
+  const std::string path = dir / "in.png";
+  auto declined = [&](PngRecipe r) {
+    make_png(path, r);
+    return PngReader::open(path) == nullptr;
+  };
+  PngRecipe plain;
+  CHECK_FALSE(declined(plain));
+  PngRecipe rgba = plain;
+  rgba.colour = PNG_COLOR_TYPE_RGB_ALPHA;
+  CHECK(declined(rgba));
+  PngRecipe gray_alpha = plain;
+  gray_alpha.colour = PNG_COLOR_TYPE_GRAY_ALPHA;
+  CHECK(declined(gray_alpha));
+  PngRecipe keyed = plain;
+  keyed.transparency = true;
+  CHECK(declined(keyed));
+  PngRecipe keyed_palette = plain;
+  keyed_palette.colour = PNG_COLOR_TYPE_PALETTE, keyed_palette.transparency = true;
+  CHECK(declined(keyed_palette));
+  PngRecipe interlaced = plain;
+  interlaced.interlaced = true;
+  CHECK(declined(interlaced));
+  PngRecipe profiled = plain;
+  profiled.profile = true;
+  CHECK(declined(profiled));
+  PngRecipe exif_text = plain;
+  exif_text.text = {{"Raw profile type exif", "exif\n 4\n00000000"}};
+  CHECK(declined(exif_text));
+  PngRecipe twice = plain;
+  twice.text = {{"Author", "a"}, {"Author", "b"}};
+  CHECK(declined(twice));
+  PngRecipe date_text = plain;
+  date_text.text = {{"DateTime", "2020:01:01 00:00:00"}};
+  CHECK(declined(date_text));
+
+  // Not a PNG, or a damaged one: OpenImageIO says why.
+  make_png(path, plain);
+  std::vector<char> bytes = bytes_of(path);
+  {
+    std::ofstream cut(dir / "cut.png", std::ios::binary);
+    cut.write(bytes.data(), std::streamsize(bytes.size() - 20));
+  }
+  CHECK(PngReader::open(dir / "cut.png") == nullptr);
+  std::filesystem::copy_file(path, dir / "in.tif");
+  CHECK(PngReader::open(dir / "in.tif") == nullptr);
+  CHECK(PngReader::open(dir / "missing.png") == nullptr);
+  {
+    std::ofstream text_file(dir / "text.png");
+    text_file << "not a PNG";
+  }
+  CHECK(PngReader::open(dir / "text.png") == nullptr);
+}
+
+TEST_CASE("PngReader: the header is checked as read_image checks it") {
+  const TempDir dir;
+  PngRecipe r;
+  r.width = 40, r.height = 30;
+  make_png(dir / "in.png", r);
+  ImageReadLimits limits;
+  limits.max_pixels = 1000;
+  CHECK_THROWS_WITH_AS(PngReader::open(dir / "in.png", limits),
+                       doctest::Contains("40x30 exceeds --max-input-pixels 1000"), Error);
+  CHECK_THROWS_AS(read_image(dir / "in.png", limits), Error);
+  int seen = 0;
+  limits.max_pixels = 1 << 20;
+  limits.check = [&](const ImageHeader& h) {
+    seen = h.width * h.height;
+    throw Error("refused by the job");
+  };
+  CHECK_THROWS_WITH_AS(PngReader::open(dir / "in.png", limits), "refused by the job", Error);
+  CHECK(seen == 1200);
+}
+
+TEST_CASE("PngWriter: OpenImageIO's bytes, with the time, resolution and text carried and scaled") {
+  const TempDir dir;
+  struct Case {
+    int width, height, colour, depth;
+    int resolution_unit;
+    bool time;
+    std::vector<std::pair<std::string, std::string>> text;
+    std::string compression;
+  };
+  const std::vector<Case> cases = {
+      {1, 1, PNG_COLOR_TYPE_RGB, 8, -1, false, {}, ""},
+      {17, 5, PNG_COLOR_TYPE_RGB, 8, PNG_RESOLUTION_METER, true, {}, ""},
+      {33, 7, PNG_COLOR_TYPE_GRAY, 8, PNG_RESOLUTION_UNKNOWN, false, {}, "9:paeth"},
+      {20, 6, PNG_COLOR_TYPE_RGB, 16, -1, true, {}, "0:none"},
+      {9, 9, PNG_COLOR_TYPE_GRAY, 16, -1, false, {}, "6:adaptive:filtered"},
+      {12, 8, PNG_COLOR_TYPE_PALETTE, 8, -1, false, {}, "1:sub:huffman"},
+      {15, 4, PNG_COLOR_TYPE_RGB, 8, PNG_RESOLUTION_METER, true,
+       {{"Author", "A. Painter"}, {"Software", "dropped"}, {"Copyright", "(c) 2026"}, {"title", "Scan 3"},
+        {"Description", "a test"}, {"Exif:ImageHistory", "made here"}, {"Comment", "dropped too"}},
+       "3:avg:fixed"},
+  };
+  for (const Case& c : cases) {
+    CAPTURE(c.width);
+    CAPTURE(c.compression);
+    PngRecipe r;
+    r.width = c.width, r.height = c.height, r.colour = c.colour, r.depth = c.depth;
+    r.resolution_unit = c.resolution_unit, r.time = c.time, r.text = c.text;
+    make_png(dir / "in.png", r);
+    auto reader = PngReader::open(dir / "in.png");
+    REQUIRE(reader);
+    const ImageFile file = read_image(dir / "in.png");
+    const int out_w = c.width * 3, out_h = c.height * 2;
+    const Image image = awkward_values(out_w, out_h, reader->header().channels, unsigned(c.width));
+    EncodeOptions encode;
+    encode.compression = c.compression;
+    const PngMetadata metadata = scaled_png_metadata(reader->metadata(), 3.0, 2.0);
+    write_natively(dir / "native.png", image, reader->header().format, &metadata, encode);
+    const auto attributes = scaled_metadata(file.metadata, 3.0, 2.0);
+    write_image(dir / "oiio.png", image, file.format, -1, &attributes, encode);
+    CHECK(bytes_of(dir / "native.png") == bytes_of(dir / "oiio.png"));
+  }
+}
+
+TEST_CASE("png_writes: gray and RGB PNGs OpenImageIO would write, the rest left to it") {
+  EncodeOptions plain;
+  CHECK(png_writes("a.png", 10, 10, 3, plain));
+  CHECK(png_writes("A.PNG", 10, 10, 1, plain));
+  CHECK_FALSE(png_writes("a.png", 10, 10, 4, plain));
+  CHECK_FALSE(png_writes("a.png", 10, 10, 2, plain));
+  CHECK_FALSE(png_writes("a.exr", 10, 10, 3, plain));
+  CHECK_FALSE(png_writes("a.png", 70000, 10, 3, plain));
+  EncodeOptions bad;
+  bad.compression = "11";
+  CHECK_FALSE(png_writes("a.png", 10, 10, 3, bad));
+  EncodeOptions half;
+  half.half = true;
+  CHECK_FALSE(png_writes("a.png", 10, 10, 3, half));
+}
