@@ -35,4 +35,9 @@ if "$work/consumer/upscale_file" "$work/missing.png" "$work/x.exr" 2>"$work/err.
   echo "FAIL: a missing input succeeded"; exit 1
 fi
 [ "$(wc -l <"$work/err.txt")" -eq 1 ] || { echo "FAIL: error not one line:"; cat "$work/err.txt"; exit 1; }
+# The installed command: the front, and ddtscale-full beside it for what the front hands on.
+"$work/prefix/bin/ddtscale" "$source/images/regression/inputs/strokes.png" "$work/cmd.png" --scale 2 -q ||
+  { echo "FAIL: the installed ddtscale, PNG to PNG"; exit 1; }
+"$work/prefix/bin/ddtscale" "$source/images/regression/inputs/strokes.png" "$work/cmd.exr" --scale 2 -q ||
+  { echo "FAIL: the installed ddtscale, handed on to ddtscale-full"; exit 1; }
 echo "install and consumer: ok ($out)"
