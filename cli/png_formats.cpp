@@ -20,7 +20,8 @@ std::unique_ptr<InputImage> open_input_image(const std::string& path, const Imag
 
 void check_output_image(const std::string& path, int width, int height, const ImageHeader& source,
                         const EncodeOptions& encode) {
-  if (source.alpha_channel >= 0 || !png_writes(path, width, height, source.channels, encode))
+  const bool alpha_last = source.alpha_channel < 0 || source.alpha_channel == source.channels - 1;
+  if (!alpha_last || !png_writes(path, width, height, source.channels, encode))
     throw NeedsOpenImageIO("'" + path + "' is not a PNG written without OpenImageIO");
 }
 

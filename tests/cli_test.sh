@@ -236,6 +236,10 @@ run_ok "front, PNG to PNG" "$work/in.png" "$work/front.png" --scale 3
 run_ok "front, 16-bit gray PNG" "$work/grey16.png" "$work/front16.png" --scale 2
 "$full" "$work/grey16.png" "$work/full16.png" --scale 2 -q && cmp -s "$work/front16.png" "$work/full16.png" && ok ||
   bad "the front's 16-bit PNG differs from ddtscale-full's"
+oiiotool --pattern checker:width=3:height=3:color1=0.1,0.2,0.3,0.5:color2=0.9,0.8,0.7,1 21x13 4 -o "$work/rgba.png"
+run_ok "front, RGBA PNG" "$work/rgba.png" "$work/front_rgba.png" --scale 2
+"$full" "$work/rgba.png" "$work/full_rgba.png" --scale 2 -q && cmp -s "$work/front_rgba.png" "$work/full_rgba.png" && ok ||
+  bad "the front's RGBA PNG differs from ddtscale-full's"
 # Handed on: another output format, --compare, a subcommand's --help, a bad option.
 run_ok "front hands on EXR" "$work/in.png" "$work/front.exr" --scale 2
 run_ok "front hands on --compare" "$work/in.png" "$work/front_cmp.png" --scale 2 --compare bicubic

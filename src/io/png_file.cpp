@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 
 namespace ddt {
 namespace {
@@ -45,18 +46,19 @@ void write_to_stage(png_structp png, png_bytep data, png_size_t size) {
 void flush_nothing(png_structp) {}
 
 // The chunks read here as OpenImageIO reads them: the critical ones, the
-// time, resolution and text it carries, and those it does not look at
-// (colour-space hints it reads as attributes an enlargement drops,
-// background, significant bits, offsets, histograms, palettes suggested).
-// Not here: tRNS (alpha), iCCP, eXIf, and any unknown critical chunk.
+// transparency it turns into alpha, the time, resolution and text it
+// carries, and those it does not look at (colour-space hints it reads as
+// attributes an enlargement drops, background, significant bits, offsets).
+// Not here: iCCP, eXIf, and any unknown critical chunk.
 bool chunk_taken(const char type[4]) {
-  static constexpr std::array<const char*, 15> taken = {"IHDR", "PLTE", "IDAT", "IEND", "tIME", "pHYs", "tEXt", "zTXt",
-                                                        "iTXt", "gAMA", "sRGB", "cHRM", "sBIT", "bKGD", "oFFs"};
+  static constexpr std::array<const char*, 16> taken = {"IHDR", "PLTE", "IDAT", "IEND", "tIME", "pHYs",
+                                                        "tEXt", "zTXt", "iTXt", "gAMA", "sRGB", "cHRM",
+                                                        "sBIT", "bKGD", "oFFs", "tRNS"};
   for (const char* t : taken)
     if (std::memcmp(type, t, 4) == 0) return true;
   const bool ancillary = (type[0] & 0x20) != 0;
   if (!ancillary) return false;
-  for (const char* t : {"tRNS", "iCCP", "eXIf", "sPLT", "hIST", "pCAL", "sCAL", "sTER", "dSIG", "acTL", "fcTL", "fdAT"})
+  for (const char* t : {"iCCP", "eXIf", "sPLT", "hIST", "pCAL", "sCAL", "sTER", "dSIG", "acTL", "fcTL", "fdAT"})
     if (std::memcmp(type, t, 4) == 0) return false;
   return true;  // a private ancillary chunk, which libpng skips
 }
@@ -65,9 +67,9 @@ std::uint32_t big_endian(const unsigned char* p) {
   return (std::uint32_t(p[0]) << 24) | (std::uint32_t(p[1]) << 16) | (std::uint32_t(p[2]) << 8) | p[3];
 }
 
-// Walks the chunk list without decoding: whether every chunk is taken, the
-// image is not interlaced and holds gray, RGB or a palette, within
-// libpng's size limits. A malformed list is not taken either.
+// Walks the chunk list without decoding: whether every chunk is taken and
+// the image is not interlaced, within libpng's size limits. A malformed
+// list is not taken either.
 bool file_taken(std::FILE* in) {
   unsigned char signature[8];
   if (std::fread(signature, 1, 8, in) != 8 || png_sig_cmp(signature, 0, 8) != 0) return false;
@@ -82,11 +84,9 @@ bool file_taken(std::FILE* in) {
       unsigned char ihdr[13];
       if (std::memcmp(type, "IHDR", 4) != 0 || length != 13 || std::fread(ihdr, 1, 13, in) != 13) return false;
       const std::uint32_t width = big_endian(ihdr), height = big_endian(ihdr + 4);
-      const int colour = ihdr[9], interlace = ihdr[12];
+      const int interlace = ihdr[12];
       if (width == 0 || height == 0 || width > PNG_USER_WIDTH_MAX || height > PNG_USER_HEIGHT_MAX) return false;
-      if ((colour != PNG_COLOR_TYPE_GRAY && colour != PNG_COLOR_TYPE_RGB && colour != PNG_COLOR_TYPE_PALETTE) ||
-          interlace != PNG_INTERLACE_NONE)
-        return false;
+      if (interlace != PNG_INTERLACE_NONE) return false;
       if (std::fseek(in, 4, SEEK_CUR) != 0) return false;
       first = false;
       continue;
@@ -136,6 +136,29 @@ bool text_declined(const std::string& key, const std::string& name) {
   return low.rfind("oiio:", 0) == 0 || low.rfind("png:", 0) == 0 || low.rfind("ddtscale:", 0) == 0;
 }
 
+// OpenImageIO 2.4's PNG reader associates alpha (multiplies the colour by
+// it) in the file's integers: colour * alpha / max, truncated. (With a
+// gamma from a gAMA chunk it works in floats instead: such files are left
+// to it.)
+template <class Sample>
+void associate_alpha(Sample* row, int width, int channels) {
+  constexpr unsigned max = std::numeric_limits<Sample>::max();
+  for (int x = 0; x < width; ++x, row += channels)
+    for (int c = 0; c < channels - 1; ++c) row[c] = static_cast<Sample>(unsigned(row[c]) * row[channels - 1] / max);
+}
+
+// And its writer the reverse, after rounding to the integers: colour * max
+// / alpha, truncated, at most max, where alpha is not 0.
+template <class Sample>
+void dissociate_alpha(Sample* row, int width, int channels) {
+  constexpr unsigned max = std::numeric_limits<Sample>::max();
+  for (int x = 0; x < width; ++x, row += channels) {
+    const unsigned alpha = row[channels - 1];
+    if (alpha == 0) continue;
+    for (int c = 0; c < channels - 1; ++c) row[c] = static_cast<Sample>(std::min(max, unsigned(row[c]) * max / alpha));
+  }
+}
+
 }  // namespace
 
 struct PngReader::Decoder {
@@ -164,6 +187,7 @@ struct PngInfo {
   int unit = 0;
   png_textp text = nullptr;
   int texts = 0;
+  bool gamma_without_srgb = false;  // OpenImageIO then associates alpha in floats
 };
 
 bool start_decoding(png_structp png, png_infop info, PngContext& context, PngInfo& out) {
@@ -179,6 +203,9 @@ bool start_decoding(png_structp png, png_infop info, PngContext& context, PngInf
   if (png_get_tIME(png, info, &time) && time) out.has_time = true, out.time = *time;
   out.has_resolution = png_get_pHYs(png, info, &out.x_per_unit, &out.y_per_unit, &out.unit) != 0;
   out.texts = png_get_text(png, info, &out.text, nullptr);
+  int intent = 0;
+  double gamma = 0;
+  out.gamma_without_srgb = !png_get_sRGB(png, info, &intent) && png_get_gAMA(png, info, &gamma) && gamma > 0;
   return true;
 }
 
@@ -211,7 +238,8 @@ std::unique_ptr<PngReader> PngReader::open(const std::string& path, const ImageR
   decoder->info = png_create_info_struct(decoder->png);
   PngInfo info;
   if (!decoder->info || !start_decoding(decoder->png, decoder->info, context, info)) return nullptr;
-  if (info.channels != 1 && info.channels != 3) return nullptr;
+  if (info.channels < 1 || info.channels > 4) return nullptr;
+  if ((info.channels == 2 || info.channels == 4) && info.gamma_without_srgb) return nullptr;
 
   PngMetadata metadata;
   for (int i = 0; i < info.texts; ++i) {
@@ -237,8 +265,10 @@ std::unique_ptr<PngReader> PngReader::open(const std::string& path, const ImageR
     metadata.y_resolution = float(info.y_per_unit) * scale;
   }
 
+  // Two channels are gray and alpha, four RGB and alpha (tRNS expanded too).
+  const int alpha = info.channels == 2 || info.channels == 4 ? info.channels - 1 : -1;
   const ImageHeader header{int(info.width), int(info.height), info.channels,
-                           info.depth == 16 ? SampleFormat::uint16 : SampleFormat::uint8, -1};
+                           info.depth == 16 ? SampleFormat::uint16 : SampleFormat::uint8, alpha};
   check_size_limit("input '" + path + "'", std::to_string(header.width) + "x" + std::to_string(header.height),
                    checked_product({header.width, header.height}), limits.max_pixels, limits.option);
   if (limits.check) limits.check(header);
@@ -273,11 +303,14 @@ void PngReader::read(int first, int end, float* rows) {
       throw Error("cannot read '" + path_ + "': " + d.context.message);
     if (next_row_ < first) continue;
     float* out = rows + std::size_t(next_row_ - first) * samples;
-    // OpenImageIO's conversion: a multiplication by the reciprocal.
+    // OpenImageIO's conversion: a multiplication by the reciprocal, after
+    // its alpha association in the file's own sample type.
     if (sixteen) {
-      const auto* in = reinterpret_cast<const std::uint16_t*>(d.row.data());
+      auto* in = reinterpret_cast<std::uint16_t*>(d.row.data());
+      if (header_.alpha_channel >= 0) associate_alpha(in, header_.width, header_.channels);
       for (std::size_t i = 0; i < samples; ++i) out[i] = float(in[i]) * (1.0f / 65535.0f);
     } else {
+      if (header_.alpha_channel >= 0) associate_alpha(d.row.data(), header_.width, header_.channels);
       for (std::size_t i = 0; i < samples; ++i) out[i] = float(d.row[i]) * (1.0f / 255.0f);
     }
   }
@@ -291,7 +324,7 @@ PngMetadata scaled_png_metadata(const PngMetadata& metadata, double scale_x, dou
 }
 
 bool png_writes(const std::string& path, int width, int height, int channels, const EncodeOptions& encode) {
-  if (lower_extension(path) != ".png" || (channels != 1 && channels != 3)) return false;
+  if (lower_extension(path) != ".png" || channels < 1 || channels > 4) return false;
   // OpenImageIO 2.4 refuses larger PNGs; its message is left to it.
   if (width < 1 || height < 1 || width > 65535 || height > 65535) return false;
   try {
@@ -390,6 +423,8 @@ PngWriter::PngWriter(StagedOutput& stage, int file, const std::string& path, int
   e.context.file = file;
   e.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &e.context, on_error, on_warning);
   if (!e.png || !(e.info = png_create_info_struct(e.png))) throw Error("cannot write '" + path + "': out of memory");
+  constexpr int colour_types[4] = {PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA, PNG_COLOR_TYPE_RGB,
+                                   PNG_COLOR_TYPE_RGB_ALPHA};
   std::vector<png_text> text;
   if (metadata)
     for (const auto& [name, value] : metadata->text) {
@@ -402,7 +437,7 @@ PngWriter::PngWriter(StagedOutput& stage, int file, const std::string& path, int
   const PngHeaderChoice choice{png_uint_32(width),
                                png_uint_32(height),
                                sixteen_ ? 16 : 8,
-                               channels == 1 ? PNG_COLOR_TYPE_GRAY : PNG_COLOR_TYPE_RGB,
+                               colour_types[channels - 1],
                                png_encoding(encode),
                                metadata,
                                &text};
@@ -419,20 +454,26 @@ void PngWriter::write(const float* rows, int count) {
   const std::size_t row_bytes = samples * (sixteen_ ? 2 : 1);
   e.bytes.resize(row_bytes * std::size_t(count));
   e.rows.resize(std::size_t(count));
-  // OpenImageIO's rounding: to nearest, halves away from zero, clamped.
+  // OpenImageIO's rounding: to nearest, halves away from zero, clamped;
+  // then, in the sample type, it divides the colour by alpha (PNG stores
+  // it unassociated).
   const float top = sixteen_ ? 65535.0f : 255.0f;
+  const bool alpha = channels_ == 2 || channels_ == 4;
+  std::vector<std::uint16_t> wide(sixteen_ ? samples : 0);
   for (int r = 0; r < count; ++r) {
     const float* in = rows + std::size_t(r) * samples;
     unsigned char* out = e.bytes.data() + std::size_t(r) * row_bytes;
     e.rows[std::size_t(r)] = out;
     if (sixteen_) {
-      for (std::size_t i = 0; i < samples; ++i) {
-        const auto v = static_cast<std::uint16_t>(std::clamp(std::round(in[i] * top), 0.0f, top));
-        out[2 * i] = static_cast<unsigned char>(v >> 8), out[2 * i + 1] = static_cast<unsigned char>(v & 0xff);
-      }
+      for (std::size_t i = 0; i < samples; ++i)
+        wide[i] = static_cast<std::uint16_t>(std::clamp(std::round(in[i] * top), 0.0f, top));
+      if (alpha) dissociate_alpha(wide.data(), width_, channels_);
+      for (std::size_t i = 0; i < samples; ++i)
+        out[2 * i] = static_cast<unsigned char>(wide[i] >> 8), out[2 * i + 1] = static_cast<unsigned char>(wide[i] & 0xff);
     } else {
       for (std::size_t i = 0; i < samples; ++i)
         out[i] = static_cast<unsigned char>(std::clamp(std::round(in[i] * top), 0.0f, top));
+      if (alpha) dissociate_alpha(out, width_, channels_);
     }
   }
   if (!write_rows(e.png, e.context, e.rows.data(), png_uint_32(count)))

@@ -6,10 +6,12 @@
 //
 // The floats read and the bytes written are OpenImageIO 2.4's, whose PNG
 // plugin is libpng too (tests/io/test_png_file.cpp compares both ways), so
-// a job gives the same file whichever reads and writes it. What this does
-// not reproduce is left to OpenImageIO: PngReader::open returns null for
-// an interlaced file, alpha or transparency, an ICC profile, EXIF or XMP,
-// text OpenImageIO reads as something else, a malformed chunk list.
+// a job gives the same file whichever reads and writes it, alpha
+// included (OpenImageIO associates it on reading, in the file's sample
+// type, and divides it out on writing; so does this). What this does not
+// reproduce is left to OpenImageIO: PngReader::open returns null for an
+// interlaced file, an ICC profile, EXIF or XMP, text OpenImageIO reads as
+// something else, a malformed chunk list.
 //
 // Carried, as OpenImageIO reads and writes them (image_io.hpp,
 // ImageFile::metadata): the time (tIME, "DateTime"), the resolution (pHYs,
@@ -70,9 +72,9 @@ class PngReader {
   int next_row_ = 0;
 };
 
-// Whether a width x height PNG of `channels` channels from `source` samples
-// is written here, byte for byte as OpenImageIO would (gray or RGB; PNG's
-// options, checked: encode_options.hpp).
+// Whether a width x height PNG of `channels` channels is written here,
+// byte for byte as OpenImageIO would (gray, gray and alpha, RGB, RGB and
+// alpha, alpha last; PNG's options, checked: encode_options.hpp).
 bool png_writes(const std::string& path, int width, int height, int channels, const EncodeOptions& encode);
 
 // Encodes a PNG into a staged file (safe_file.hpp) row by row. 8-bit

@@ -34,6 +34,7 @@ struct PngRecipe {
   bool transparency = false;  // tRNS
   bool profile = false;       // iCCP
   bool time = false;
+  bool gamma = false;         // gAMA (1/2.2), no sRGB
   int resolution_unit = -1;   // pHYs: PNG_RESOLUTION_METER or _UNKNOWN; -1: none
   std::vector<std::pair<std::string, std::string>> text;
   unsigned seed = 1;
@@ -75,6 +76,7 @@ bool write_recipe(std::FILE* file, const PngRecipe& r, std::vector<std::vector<u
   if (r.profile) png_set_iCCP(png, info, "test", 0, icc.data(), png_uint_32(icc.size()));
   png_time when{2017, 8, 12, 9, 43, 55};
   if (r.time) png_set_tIME(png, info, &when);
+  if (r.gamma) png_set_gAMA(png, info, 1.0 / 2.2);
   if (r.resolution_unit >= 0) png_set_pHYs(png, info, 11811, 2835, r.resolution_unit);
   if (!text.empty()) png_set_text(png, info, text.data(), int(text.size()));
   png_set_option(png, PNG_SKIP_sRGB_CHECK_PROFILE, PNG_OPTION_ON);
@@ -145,6 +147,11 @@ Image awkward_values(int width, int height, int channels, unsigned seed) {
     if (i % 11 == 0) v = code(rng) * (1.0f / 255.0f);
     image.pixels[i] = v;
   }
+  if (channels == 2 || channels == 4)  // alpha: some exactly 0 and 1, where nothing is divided
+    for (std::size_t p = 0; p < image.pixel_count(); p += 5) {
+      image.pixels[p * channels + channels - 1] = 0.0f;
+      if (p + 1 < image.pixel_count()) image.pixels[(p + 1) * channels + channels - 1] = 1.0f;
+    }
   return image;
 }
 
@@ -158,7 +165,9 @@ TEST_CASE("PngReader: the floats, size and sample type OpenImageIO reads, by ban
   for (const Kind k : {Kind{PNG_COLOR_TYPE_RGB, 8}, Kind{PNG_COLOR_TYPE_RGB, 16}, Kind{PNG_COLOR_TYPE_GRAY, 8},
                        Kind{PNG_COLOR_TYPE_GRAY, 16}, Kind{PNG_COLOR_TYPE_GRAY, 1}, Kind{PNG_COLOR_TYPE_GRAY, 2},
                        Kind{PNG_COLOR_TYPE_GRAY, 4}, Kind{PNG_COLOR_TYPE_PALETTE, 8},
-                       Kind{PNG_COLOR_TYPE_PALETTE, 4}}) {
+                       Kind{PNG_COLOR_TYPE_PALETTE, 4}, Kind{PNG_COLOR_TYPE_RGB_ALPHA, 8},
+                       Kind{PNG_COLOR_TYPE_RGB_ALPHA, 16}, Kind{PNG_COLOR_TYPE_GRAY_ALPHA, 8},
+                       Kind{PNG_COLOR_TYPE_GRAY_ALPHA, 16}}) {
     CAPTURE(k.colour);
     CAPTURE(k.depth);
     PngRecipe r;
@@ -173,7 +182,7 @@ TEST_CASE("PngReader: the floats, size and sample type OpenImageIO reads, by ban
     CHECK(h.height == expected.image.height);
     CHECK(h.channels == expected.image.channels);
     CHECK(h.format == expected.format);
-    CHECK(h.alpha_channel == -1);
+    CHECK(h.alpha_channel == expected.alpha_channel);
     std::vector<float> rows(expected.image.pixels.size());
     const std::size_t row = std::size_t(h.width) * h.channels;
     reader->read(0, 4, rows.data());
@@ -185,7 +194,25 @@ TEST_CASE("PngReader: the floats, size and sample type OpenImageIO reads, by ban
   }
 }
 
-TEST_CASE("PngReader: alpha, transparency, interlacing, profiles and special text are left to OpenImageIO") {
+TEST_CASE("PngReader: transparency (tRNS) becomes alpha, associated, as OpenImageIO reads it") {
+  const TempDir dir;
+  for (const int colour : {PNG_COLOR_TYPE_PALETTE, PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_RGB}) {
+    CAPTURE(colour);
+    PngRecipe r;
+    r.colour = colour, r.transparency = true, r.seed = unsigned(colour + 7);
+    make_png(dir / "in.png", r);
+    const ImageFile expected = read_image(dir / "in.png");
+    auto reader = PngReader::open(dir / "in.png");
+    REQUIRE(reader);
+    CHECK(reader->header().channels == expected.image.channels);
+    CHECK(reader->header().alpha_channel == expected.alpha_channel);
+    std::vector<float> rows(expected.image.pixels.size());
+    reader->read(0, reader->header().height, rows.data());
+    CHECK(rows == expected.image.pixels);
+  }
+}
+
+TEST_CASE("PngReader: interlacing, profiles, alpha under a gamma and special text are left to OpenImageIO") {
   const TempDir dir;
   const std::string path = dir / "in.png";
   auto declined = [&](PngRecipe r) {
@@ -194,18 +221,12 @@ TEST_CASE("PngReader: alpha, transparency, interlacing, profiles and special tex
   };
   PngRecipe plain;
   CHECK_FALSE(declined(plain));
-  PngRecipe rgba = plain;
-  rgba.colour = PNG_COLOR_TYPE_RGB_ALPHA;
-  CHECK(declined(rgba));
-  PngRecipe gray_alpha = plain;
-  gray_alpha.colour = PNG_COLOR_TYPE_GRAY_ALPHA;
-  CHECK(declined(gray_alpha));
-  PngRecipe keyed = plain;
-  keyed.transparency = true;
-  CHECK(declined(keyed));
-  PngRecipe keyed_palette = plain;
-  keyed_palette.colour = PNG_COLOR_TYPE_PALETTE, keyed_palette.transparency = true;
-  CHECK(declined(keyed_palette));
+  PngRecipe gamma = plain;  // taken: OpenImageIO reads a gamma as an attribute an enlargement drops
+  gamma.gamma = true;
+  CHECK_FALSE(declined(gamma));
+  PngRecipe gamma_alpha = gamma;  // OpenImageIO associates alpha in floats under a gamma
+  gamma_alpha.colour = PNG_COLOR_TYPE_RGB_ALPHA;
+  CHECK(declined(gamma_alpha));
   PngRecipe interlaced = plain;
   interlaced.interlaced = true;
   CHECK(declined(interlaced));
@@ -276,6 +297,9 @@ TEST_CASE("PngWriter: OpenImageIO's bytes, with the time, resolution and text ca
       {20, 6, PNG_COLOR_TYPE_RGB, 16, -1, true, {}, "0:none"},
       {9, 9, PNG_COLOR_TYPE_GRAY, 16, -1, false, {}, "6:adaptive:filtered"},
       {12, 8, PNG_COLOR_TYPE_PALETTE, 8, -1, false, {}, "1:sub:huffman"},
+      {19, 6, PNG_COLOR_TYPE_RGB_ALPHA, 8, -1, true, {}, ""},
+      {7, 5, PNG_COLOR_TYPE_RGB_ALPHA, 16, -1, false, {}, ""},
+      {10, 4, PNG_COLOR_TYPE_GRAY_ALPHA, 8, PNG_RESOLUTION_METER, false, {}, "9:paeth"},
       {15, 4, PNG_COLOR_TYPE_RGB, 8, PNG_RESOLUTION_METER, true,
        {{"Author", "A. Painter"}, {"Software", "dropped"}, {"Copyright", "(c) 2026"}, {"title", "Scan 3"},
         {"Description", "a test"}, {"Exif:ImageHistory", "made here"}, {"Comment", "dropped too"}},
@@ -298,17 +322,18 @@ TEST_CASE("PngWriter: OpenImageIO's bytes, with the time, resolution and text ca
     const PngMetadata metadata = scaled_png_metadata(reader->metadata(), 3.0, 2.0);
     write_natively(dir / "native.png", image, reader->header().format, &metadata, encode);
     const auto attributes = scaled_metadata(file.metadata, 3.0, 2.0);
-    write_image(dir / "oiio.png", image, file.format, -1, &attributes, encode);
+    write_image(dir / "oiio.png", image, file.format, file.alpha_channel, &attributes, encode);
     CHECK(bytes_of(dir / "native.png") == bytes_of(dir / "oiio.png"));
   }
 }
 
-TEST_CASE("png_writes: gray and RGB PNGs OpenImageIO would write, the rest left to it") {
+TEST_CASE("png_writes: 1 to 4 channel PNGs OpenImageIO would write, the rest left to it") {
   EncodeOptions plain;
   CHECK(png_writes("a.png", 10, 10, 3, plain));
   CHECK(png_writes("A.PNG", 10, 10, 1, plain));
-  CHECK_FALSE(png_writes("a.png", 10, 10, 4, plain));
-  CHECK_FALSE(png_writes("a.png", 10, 10, 2, plain));
+  CHECK(png_writes("a.png", 10, 10, 4, plain));
+  CHECK(png_writes("a.png", 10, 10, 2, plain));
+  CHECK_FALSE(png_writes("a.png", 10, 10, 5, plain));
   CHECK_FALSE(png_writes("a.exr", 10, 10, 3, plain));
   CHECK_FALSE(png_writes("a.png", 70000, 10, 3, plain));
   EncodeOptions bad;
