@@ -251,6 +251,12 @@ std::unique_ptr<PngReader> PngReader::open(const std::string& path, const ImageR
     if (text_carried(name)) metadata.text.emplace_back(name, t.text ? t.text : "");
   }
   if (info.has_time) {
+    // OpenImageIO writes the time back through its own date parser, which
+    // agrees with this format only for ordinary dates.
+    const png_time& t = info.time;
+    if (t.year < 1000 || t.year > 9999 || t.month < 1 || t.month > 12 || t.day < 1 || t.day > 31 || t.hour > 23 ||
+        t.minute > 59 || t.second > 59)
+      return nullptr;
     char date[64];
     std::snprintf(date, sizeof date, "%4d:%02d:%02d %02d:%02d:%02d", info.time.year, info.time.month, info.time.day,
                   info.time.hour, info.time.minute, info.time.second);
