@@ -10,8 +10,9 @@
 // included (OpenImageIO associates it on reading, in the file's sample
 // type, and divides it out on writing; so does this). What this does not
 // reproduce is left to OpenImageIO: PngReader::open returns null for an
-// interlaced file, an ICC profile, EXIF or XMP, text OpenImageIO reads as
-// something else, a malformed chunk list.
+// interlaced file, an ICC profile, EXIF or XMP, alpha under a gAMA without
+// sRGB, text OpenImageIO reads as something else, an unusual date, a
+// malformed chunk list.
 //
 // Carried, as OpenImageIO reads and writes them (image_io.hpp,
 // ImageFile::metadata): the time (tIME, "DateTime"), the resolution (pHYs,
