@@ -15,6 +15,9 @@ namespace {
 // A PNG's metadata as OpenImageIO's PNG reader gives it, in its order.
 OIIO::ParamValueList as_attributes(const PngMetadata& metadata) {
   OIIO::ParamValueList list;
+  if (!metadata.icc_profile.empty())
+    list.attribute("ICCProfile", OIIO::TypeDesc(OIIO::TypeDesc::UINT8, int(metadata.icc_profile.size())),
+                   metadata.icc_profile.data());
   if (!metadata.date_time.empty()) list.attribute("DateTime", metadata.date_time);
   for (const auto& [name, value] : metadata.text) list.attribute(name, value);
   if (metadata.has_resolution) {

@@ -47,18 +47,19 @@ void flush_nothing(png_structp) {}
 
 // The chunks read here as OpenImageIO reads them: the critical ones, the
 // transparency it turns into alpha, the time, resolution and text it
-// carries, and those it does not look at (colour-space hints it reads as
-// attributes an enlargement drops, background, significant bits, offsets).
-// Not here: iCCP, eXIf, and any unknown critical chunk.
+// carries, the ICC profile, and those it does not look at (colour-space
+// hints it reads as attributes an enlargement drops, background,
+// significant bits, offsets). Not here: eXIf, and any unknown critical
+// chunk.
 bool chunk_taken(const char type[4]) {
-  static constexpr std::array<const char*, 16> taken = {"IHDR", "PLTE", "IDAT", "IEND", "tIME", "pHYs",
+  static constexpr std::array<const char*, 17> taken = {"IHDR", "PLTE", "IDAT", "IEND", "tIME", "pHYs",
                                                         "tEXt", "zTXt", "iTXt", "gAMA", "sRGB", "cHRM",
-                                                        "sBIT", "bKGD", "oFFs", "tRNS"};
+                                                        "sBIT", "bKGD", "oFFs", "tRNS", "iCCP"};
   for (const char* t : taken)
     if (std::memcmp(type, t, 4) == 0) return true;
   const bool ancillary = (type[0] & 0x20) != 0;
   if (!ancillary) return false;
-  for (const char* t : {"iCCP", "eXIf", "sPLT", "hIST", "pCAL", "sCAL", "sTER", "dSIG", "acTL", "fcTL", "fdAT"})
+  for (const char* t : {"eXIf", "sPLT", "hIST", "pCAL", "sCAL", "sTER", "dSIG", "acTL", "fcTL", "fdAT"})
     if (std::memcmp(type, t, 4) == 0) return false;
   return true;  // a private ancillary chunk, which libpng skips
 }
@@ -188,6 +189,8 @@ struct PngInfo {
   png_textp text = nullptr;
   int texts = 0;
   bool gamma_without_srgb = false;  // OpenImageIO then associates alpha in floats
+  png_bytep profile = nullptr;
+  png_uint_32 profile_length = 0;
 };
 
 bool start_decoding(png_structp png, png_infop info, PngContext& context, PngInfo& out) {
@@ -206,6 +209,10 @@ bool start_decoding(png_structp png, png_infop info, PngContext& context, PngInf
   int intent = 0;
   double gamma = 0;
   out.gamma_without_srgb = !png_get_sRGB(png, info, &intent) && png_get_gAMA(png, info, &gamma) && gamma > 0;
+  png_charp profile_name = nullptr;
+  int compression = 0;
+  if (png_get_valid(png, info, PNG_INFO_iCCP))
+    png_get_iCCP(png, info, &profile_name, &compression, &out.profile, &out.profile_length);
   return true;
 }
 
@@ -262,6 +269,7 @@ std::unique_ptr<PngReader> PngReader::open(const std::string& path, const ImageR
                   info.time.hour, info.time.minute, info.time.second);
     metadata.date_time = date;
   }
+  if (info.profile && info.profile_length > 0) metadata.icc_profile.assign(info.profile, info.profile + info.profile_length);
   if (info.has_resolution) {
     // OpenImageIO reads pixels per metre as per inch, in float arithmetic.
     metadata.has_resolution = true;
@@ -361,6 +369,7 @@ struct PngHeaderChoice {
   PngEncoding encoding;
   const PngMetadata* metadata;
   std::vector<png_text>* text;
+  bool with_profile;
 };
 
 bool start_encoding(png_structp png, png_infop info, PngContext& context, const PngHeaderChoice& c) {
@@ -374,6 +383,9 @@ bool start_encoding(png_structp png, png_infop info, PngContext& context, const 
   png_set_IHDR(png, info, c.width, c.height, c.depth, c.colour, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
                PNG_FILTER_TYPE_DEFAULT);
   png_set_oFFs(png, info, 0, 0, PNG_OFFSET_PIXEL);
+  if (c.metadata && !c.metadata->icc_profile.empty() && c.with_profile)
+    png_set_iCCP(png, info, "Embedded Profile", 0, c.metadata->icc_profile.data(),
+                 png_uint_32(c.metadata->icc_profile.size()));
   if (c.metadata && c.metadata->has_resolution) {
     const float scale = c.metadata->per_inch ? float(100.0 / 2.54) : 1.0f;
     png_set_pHYs(png, info, png_uint_32(c.metadata->x_resolution * scale),
@@ -440,14 +452,26 @@ PngWriter::PngWriter(StagedOutput& stage, int file, const std::string& path, int
       t.text = const_cast<char*>(value.c_str());
       text.push_back(t);
     }
-  const PngHeaderChoice choice{png_uint_32(width),
+  PngHeaderChoice choice{png_uint_32(width),
                                png_uint_32(height),
                                sixteen_ ? 16 : 8,
                                colour_types[channels - 1],
                                png_encoding(encode),
                                metadata,
-                               &text};
-  if (!start_encoding(e.png, e.info, e.context, choice)) throw Error("cannot write '" + path + "': " + e.context.message);
+                               &text,
+                               true};
+  if (!start_encoding(e.png, e.info, e.context, choice)) {
+    // libpng refuses a profile it judges malformed (and with it the file):
+    // the image is then written without it, as write_image does.
+    const std::string why = e.context.message;
+    if (!metadata || metadata->icc_profile.empty()) throw Error("cannot write '" + path + "': " + why);
+    png_destroy_write_struct(&e.png, &e.info);
+    e.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &e.context, on_error, on_warning);
+    if (!e.png || !(e.info = png_create_info_struct(e.png))) throw Error("cannot write '" + path + "': out of memory");
+    choice.with_profile = false;
+    if (!start_encoding(e.png, e.info, e.context, choice))
+      throw Error("cannot write '" + path + "': " + e.context.message);
+  }
 }
 
 PngWriter::~PngWriter() = default;

@@ -10,13 +10,14 @@
 // included (OpenImageIO associates it on reading, in the file's sample
 // type, and divides it out on writing; so does this). What this does not
 // reproduce is left to OpenImageIO: PngReader::open returns null for an
-// interlaced file, an ICC profile, EXIF or XMP, alpha under a gAMA without
+// interlaced file, EXIF or XMP, alpha under a gAMA without
 // sRGB, text OpenImageIO reads as something else, an unusual date, a
 // malformed chunk list.
 //
 // Carried, as OpenImageIO reads and writes them (image_io.hpp,
-// ImageFile::metadata): the time (tIME, "DateTime"), the resolution (pHYs,
-// scaled so the printed size stays) and text chunks whose OpenImageIO name
+// ImageFile::metadata): the ICC profile (iCCP), the time (tIME,
+// "DateTime"), the resolution (pHYs, scaled so the printed size stays) and
+// text chunks whose OpenImageIO name
 // is carried (Author as Artist, Title as DocumentName, Description as
 // ImageDescription, Copyright, ...).
 //
@@ -39,6 +40,7 @@ struct PngMetadata {
   bool per_inch = false;  // read from pixels per metre; else a unit-less ratio
   float x_resolution = 0, y_resolution = 0;
   std::vector<std::pair<std::string, std::string>> text;  // OpenImageIO's names, in the file's order
+  std::vector<unsigned char> icc_profile;                 // iCCP's profile, or empty
 };
 
 // The metadata of an image scale_x x scale_y times the size it was read at
