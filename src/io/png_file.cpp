@@ -28,6 +28,7 @@ struct PngContext {
   std::FILE* in = nullptr;
   StagedOutput* stage = nullptr;
   int file = -1;
+  std::size_t written = 0;  // bytes handed to the stage
 };
 
 [[noreturn]] void on_error(png_structp png, png_const_charp message) {
@@ -41,6 +42,7 @@ void on_warning(png_structp, png_const_charp) {}
 void write_to_stage(png_structp png, png_bytep data, png_size_t size) {
   auto* context = static_cast<PngContext*>(png_get_io_ptr(png));
   context->stage->write(context->file, data, size);  // its errors come at finish()
+  context->written += size;
 }
 
 void flush_nothing(png_structp) {}
@@ -464,7 +466,8 @@ PngWriter::PngWriter(StagedOutput& stage, int file, const std::string& path, int
     // libpng refuses a profile it judges malformed (and with it the file):
     // the image is then written without it, as write_image does.
     const std::string why = e.context.message;
-    if (!metadata || metadata->icc_profile.empty()) throw Error("cannot write '" + path + "': " + why);
+    if (!metadata || metadata->icc_profile.empty() || e.context.written > 0)
+      throw Error("cannot write '" + path + "': " + why);
     png_destroy_write_struct(&e.png, &e.info);
     e.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &e.context, on_error, on_warning);
     if (!e.png || !(e.info = png_create_info_struct(e.png))) throw Error("cannot write '" + path + "': out of memory");
