@@ -346,3 +346,16 @@ TEST_CASE("png_writes: 1 to 4 channel PNGs OpenImageIO would write, the rest lef
   half.half = true;
   CHECK_FALSE(png_writes("a.png", 10, 10, 3, half));
 }
+
+TEST_CASE("PngWriter: a profile libpng refuses is dropped, as write_image drops it") {
+  const TempDir dir;
+  const Image image = awkward_values(9, 7, 3, 3);
+  PngMetadata metadata;
+  metadata.icc_profile.assign(60, 7);  // no ICC header
+  write_natively(dir / "native.png", image, SampleFormat::uint8, &metadata, {});
+  OIIO::ParamValueList attributes;
+  attributes.attribute("ICCProfile", OIIO::TypeDesc(OIIO::TypeDesc::UINT8, 60), metadata.icc_profile.data());
+  write_image(dir / "oiio.png", image, SampleFormat::uint8, -1, &attributes, {});
+  CHECK(bytes_of(dir / "native.png") == bytes_of(dir / "oiio.png"));
+  CHECK_FALSE(read_image(dir / "native.png").metadata.contains("ICCProfile"));
+}
