@@ -71,8 +71,7 @@ std::uint32_t big_endian(const unsigned char* p) {
 }
 
 // Walks the chunk list without decoding: whether every chunk is taken and
-// the image is not interlaced, within libpng's size limits. A malformed
-// list is not taken either.
+// the image within libpng's size limits. A malformed list is not taken.
 bool file_taken(std::FILE* in) {
   unsigned char signature[8];
   if (std::fread(signature, 1, 8, in) != 8 || png_sig_cmp(signature, 0, 8) != 0) return false;
@@ -87,9 +86,7 @@ bool file_taken(std::FILE* in) {
       unsigned char ihdr[13];
       if (std::memcmp(type, "IHDR", 4) != 0 || length != 13 || std::fread(ihdr, 1, 13, in) != 13) return false;
       const std::uint32_t width = big_endian(ihdr), height = big_endian(ihdr + 4);
-      const int interlace = ihdr[12];
       if (width == 0 || height == 0 || width > PNG_USER_WIDTH_MAX || height > PNG_USER_HEIGHT_MAX) return false;
-      if (interlace != PNG_INTERLACE_NONE) return false;
       if (std::fseek(in, 4, SEEK_CUR) != 0) return false;
       first = false;
       continue;
@@ -169,6 +166,8 @@ struct PngReader::Decoder {
   png_structp png = nullptr;
   png_infop info = nullptr;
   std::vector<unsigned char> row;
+  bool interlaced = false;
+  std::vector<unsigned char> whole;  // an interlaced image's rows, once decoded
 
   ~Decoder() {
     if (png) png_destroy_read_struct(&png, info ? &info : nullptr, nullptr);
@@ -193,6 +192,7 @@ struct PngInfo {
   bool gamma_without_srgb = false;  // OpenImageIO then associates alpha in floats
   png_bytep profile = nullptr;
   png_uint_32 profile_length = 0;
+  bool interlaced = false;
 };
 
 bool start_decoding(png_structp png, png_infop info, PngContext& context, PngInfo& out) {
@@ -202,7 +202,9 @@ bool start_decoding(png_structp png, png_infop info, PngContext& context, PngInf
   png_set_expand(png);
   png_set_swap(png);  // 16-bit samples in the machine's order
   png_read_update_info(png, info);
-  png_get_IHDR(png, info, &out.width, &out.height, &out.depth, &out.colour, nullptr, nullptr, nullptr);
+  int interlace = PNG_INTERLACE_NONE;
+  png_get_IHDR(png, info, &out.width, &out.height, &out.depth, &out.colour, &interlace, nullptr, nullptr);
+  out.interlaced = interlace != PNG_INTERLACE_NONE;
   out.channels = png_get_channels(png, info);
   png_timep time = nullptr;
   if (png_get_tIME(png, info, &time) && time) out.has_time = true, out.time = *time;
@@ -215,6 +217,13 @@ bool start_decoding(png_structp png, png_infop info, PngContext& context, PngInf
   int compression = 0;
   if (png_get_valid(png, info, PNG_INFO_iCCP))
     png_get_iCCP(png, info, &profile_name, &compression, &out.profile, &out.profile_length);
+  return true;
+}
+
+// An interlaced image is decoded whole, as OpenImageIO decodes it.
+bool read_all_rows(png_structp png, PngContext& context, png_bytepp rows) {
+  if (setjmp(context.jump)) return false;
+  png_read_image(png, rows);
   return true;
 }
 
@@ -289,6 +298,7 @@ std::unique_ptr<PngReader> PngReader::open(const std::string& path, const ImageR
                    checked_product({header.width, header.height}), limits.max_pixels, limits.option);
   if (limits.check) limits.check(header);
   decoder->row.resize(png_get_rowbytes(decoder->png, decoder->info));
+  decoder->interlaced = info.interlaced;
   return std::unique_ptr<PngReader>(new PngReader(path, std::move(decoder), header, std::move(metadata)));
 }
 
@@ -310,12 +320,27 @@ void PngReader::restart() {
 
 void PngReader::read(int first, int end, float* rows) {
   if (first < 0 || end > header_.height || first > end) throw Error("cannot read rows outside '" + path_ + "'");
-  if (first < next_row_) restart();
+  if (decoder_->interlaced) {
+    Decoder& d = *decoder_;
+    if (d.whole.empty() && first < end) {
+      const std::size_t row_bytes = d.row.size();
+      d.whole.resize(row_bytes * std::size_t(header_.height));
+      std::vector<png_bytep> pointers(std::size_t(header_.height));
+      for (std::size_t y = 0; y < pointers.size(); ++y) pointers[y] = d.whole.data() + y * row_bytes;
+      if (!read_all_rows(d.png, d.context, pointers.data()))
+        throw Error("cannot read '" + path_ + "': " + d.context.message);
+    }
+    next_row_ = first;
+  } else if (first < next_row_) {
+    restart();
+  }
   Decoder& d = *decoder_;
   const std::size_t samples = std::size_t(header_.width) * header_.channels;
   const bool sixteen = header_.format == SampleFormat::uint16;
   for (; next_row_ < end; ++next_row_) {
-    if (!read_one_row(d.png, d.context, d.row.data()))
+    if (d.interlaced)
+      std::copy_n(d.whole.begin() + std::ptrdiff_t(d.row.size() * std::size_t(next_row_)), d.row.size(), d.row.begin());
+    else if (!read_one_row(d.png, d.context, d.row.data()))
       throw Error("cannot read '" + path_ + "': " + d.context.message);
     if (next_row_ < first) continue;
     float* out = rows + std::size_t(next_row_ - first) * samples;

@@ -9,8 +9,8 @@
 // a job gives the same file whichever reads and writes it, alpha
 // included (OpenImageIO associates it on reading, in the file's sample
 // type, and divides it out on writing; so does this). What this does not
-// reproduce is left to OpenImageIO: PngReader::open returns null for an
-// interlaced file, EXIF or XMP, alpha under a gAMA without
+// reproduce is left to OpenImageIO: PngReader::open returns null for
+// EXIF or XMP, alpha under a gAMA without
 // sRGB, text OpenImageIO reads as something else, an unusual date, a
 // malformed chunk list.
 //
@@ -61,7 +61,9 @@ class PngReader {
   const ImageHeader& header() const { return header_; }
   const PngMetadata& metadata() const { return metadata_; }
   // Rows [first, end) as floats, width * channels a row; fastest top to
-  // bottom (rows above the last read are decoded again from the top).
+  // bottom (rows above the last read are decoded again from the top; an
+  // interlaced image is decoded whole at the first read, as OpenImageIO
+  // decodes it).
   void read(int first, int end, float* rows);
 
  private:
