@@ -15,6 +15,7 @@
 #include "util/file_names.hpp"
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
