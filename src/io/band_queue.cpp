@@ -6,6 +6,29 @@
 
 namespace ddt {
 
+BandOrder::BandOrder(std::string path, int width, int height, int channels)
+    : path_(std::move(path)), width_(width), height_(height), channels_(channels) {}
+
+bool BandOrder::take(const Image& rows, int first_row) {
+  if (finished_ || rows.width != width_ || rows.channels != channels_ || first_row != next_row_ || rows.height < 0 ||
+      first_row + rows.height > height_)
+    throw Error("cannot write '" + path_ + "': band of rows " + std::to_string(first_row) + ".." +
+                std::to_string(first_row + rows.height) + " (" + std::to_string(rows.width) +
+                " wide) does not follow row " + std::to_string(next_row_) + " of a " + std::to_string(width_) + "x" +
+                std::to_string(height_) + " image");
+  next_row_ += rows.height;
+  return rows.height > 0;
+}
+
+bool BandOrder::finish() {
+  if (finished_) return false;
+  if (next_row_ != height_)
+    throw Error("cannot write '" + path_ + "': only " + std::to_string(next_row_) + " of " + std::to_string(height_) +
+                " rows were given");
+  finished_ = true;
+  return true;
+}
+
 BandQueue::BandQueue(Encode encode) : encode_(std::move(encode)), thread_([this] { run(); }) {}
 
 BandQueue::~BandQueue() { stop(); }

@@ -17,6 +17,28 @@
 
 namespace ddt {
 
+// The order an output image takes its bands in (image_formats.hpp,
+// OutputImage): top to bottom, each row once, `width` wide, `channels`
+// channels; the one check both band writers make.
+class BandOrder {
+ public:
+  BandOrder(std::string path, int width, int height, int channels);
+  // Throws unless `rows` follow the rows taken so far (nor after
+  // finish()); false for an empty band.
+  bool take(const Image& rows, int first_row);
+  // Throws unless every row was taken; false when finished before.
+  bool finish();
+  int width() const { return width_; }
+  int height() const { return height_; }
+  int channels() const { return channels_; }
+
+ private:
+  std::string path_;
+  int width_, height_, channels_;
+  int next_row_ = 0;
+  bool finished_ = false;
+};
+
 class BandQueue {
  public:
   using Encode = std::function<void(const Image& rows, int first_row)>;

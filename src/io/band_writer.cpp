@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
+#include <optional>
 
 namespace ddt {
 namespace {
@@ -35,8 +36,7 @@ struct ImageBandWriter::State {
   OIIO::ParamValueList metadata;
   bool has_metadata = false;
   EncodeOptions encode;
-  int next_row = 0;
-  bool finished = false;
+  std::optional<BandOrder> order;
 
   // Not streamed: the bands gathered, written whole by finish().
   Image whole;
@@ -107,6 +107,7 @@ ImageBandWriter::ImageBandWriter(const std::string& path, int width, int height,
   State& s = *state_;
   s.path = path;
   s.width = width, s.height = height, s.channels = channels;
+  s.order.emplace(path, width, height, channels);
   s.source_format = source_format;
   s.alpha_channel = alpha_channel;
   if (metadata) s.metadata = *metadata, s.has_metadata = true;
@@ -150,13 +151,7 @@ bool ImageBandWriter::streaming() const { return state_->streaming(); }
 
 void ImageBandWriter::write(Image rows, int first_row) {
   State& s = *state_;
-  if (s.finished || rows.width != s.width || rows.channels != s.channels || first_row != s.next_row ||
-      rows.height < 0 || first_row + rows.height > s.height)
-    s.fail("band of rows " + std::to_string(first_row) + ".." + std::to_string(first_row + rows.height) + " (" +
-           std::to_string(rows.width) + " wide) does not follow row " + std::to_string(s.next_row) + " of a " +
-           std::to_string(s.width) + "x" + std::to_string(s.height) + " image");
-  if (rows.height == 0) return;
-  s.next_row += rows.height;
+  if (!s.order->take(rows, first_row)) return;
   if (!s.streaming()) {
     if (s.whole.empty()) s.whole = Image(s.width, s.height, s.channels);
     std::copy(rows.pixels.begin(), rows.pixels.end(),
@@ -168,10 +163,7 @@ void ImageBandWriter::write(Image rows, int first_row) {
 
 void ImageBandWriter::finish() {
   State& s = *state_;
-  if (s.finished) return;
-  if (s.next_row != s.height)
-    s.fail("only " + std::to_string(s.next_row) + " of " + std::to_string(s.height) + " rows were given");
-  s.finished = true;
+  if (!s.order->finish()) return;
   if (!s.streaming()) {
     write_image(s.path, s.whole, s.source_format, s.alpha_channel, s.has_metadata ? &s.metadata : nullptr, s.encode);
     return;

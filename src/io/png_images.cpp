@@ -12,7 +12,7 @@ class PngOutputImage final : public OutputImage {
  public:
   PngOutputImage(const std::string& path, int width, int height, int channels, SampleFormat source_format,
                  const PngMetadata* metadata, const EncodeOptions& encode)
-      : path_(path), width_(width), height_(height), channels_(channels), stage_(path) {
+      : order_(path, width, height, channels), stage_(path) {
     name_ = stage_.target().filename().string();
     file_ = stage_.create(name_);
     writer_.emplace(stage_, file_, path, width, height, channels, source_format, metadata, encode);
@@ -20,23 +20,11 @@ class PngOutputImage final : public OutputImage {
   }
 
   void write(Image rows, int first_row) override {
-    if (finished_ || rows.width != width_ || rows.channels != channels_ || first_row != next_row_ || rows.height < 0 ||
-        first_row + rows.height > height_)
-      throw Error("cannot write '" + path_ + "': band of rows " + std::to_string(first_row) + ".." +
-                  std::to_string(first_row + rows.height) + " (" + std::to_string(rows.width) +
-                  " wide) does not follow row " + std::to_string(next_row_) + " of a " + std::to_string(width_) +
-                  "x" + std::to_string(height_) + " image");
-    if (rows.height == 0) return;
-    next_row_ += rows.height;
-    queue_->push(std::move(rows), first_row);
+    if (order_.take(rows, first_row)) queue_->push(std::move(rows), first_row);
   }
 
   void finish() override {
-    if (finished_) return;
-    if (next_row_ != height_)
-      throw Error("cannot write '" + path_ + "': only " + std::to_string(next_row_) + " of " +
-                  std::to_string(height_) + " rows were given");
-    finished_ = true;
+    if (!order_.finish()) return;
     queue_->finish();
     writer_->finish();
     stage_.finish(file_);  // throws with the first write error (ENOSPC, EFBIG, EIO)
@@ -44,10 +32,7 @@ class PngOutputImage final : public OutputImage {
   }
 
  private:
-  std::string path_;
-  int width_, height_, channels_;
-  int next_row_ = 0;
-  bool finished_ = false;
+  BandOrder order_;
   // Destroyed in reverse: the encoding thread, the encoder, the staged file.
   StagedOutput stage_;
   std::string name_;
