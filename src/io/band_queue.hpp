@@ -28,9 +28,6 @@ class BandOrder {
   bool take(const Image& rows, int first_row);
   // Throws unless every row was taken; false when finished before.
   bool finish();
-  int width() const { return width_; }
-  int height() const { return height_; }
-  int channels() const { return channels_; }
 
  private:
   std::string path_;

@@ -161,20 +161,6 @@ void dissociate_alpha(Sample* row, int width, int channels) {
 
 }  // namespace
 
-struct PngReader::Decoder {
-  PngContext context;
-  png_structp png = nullptr;
-  png_infop info = nullptr;
-  std::vector<unsigned char> row;
-  bool interlaced = false;
-  std::vector<unsigned char> whole;  // an interlaced image's rows, once decoded
-
-  ~Decoder() {
-    if (png) png_destroy_read_struct(&png, info ? &info : nullptr, nullptr);
-    if (context.in) std::fclose(context.in);
-  }
-};
-
 namespace {
 
 // The header's fields once libpng has read the chunks before the pixels
@@ -235,6 +221,35 @@ bool read_one_row(png_structp png, PngContext& context, unsigned char* row) {
 
 }  // namespace
 
+struct PngReader::Decoder {
+  PngContext context;
+  png_structp png = nullptr;
+  png_infop info = nullptr;
+  std::vector<unsigned char> row;
+  bool interlaced = false;
+  std::vector<unsigned char> whole;  // an interlaced image's rows, once decoded
+
+  // Reads the chunks before the pixels from context.in (open, at the
+  // file's start) into `out`; false on a libpng error (context.message).
+  bool start(PngInfo& out) {
+    png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &context, on_error, on_warning);
+    if (png) info = png_create_info_struct(png);
+    if (!info) {
+      std::snprintf(context.message, sizeof context.message, "out of memory");
+      return false;
+    }
+    if (!start_decoding(png, info, context, out)) return false;
+    row.resize(png_get_rowbytes(png, info));
+    interlaced = out.interlaced;
+    return true;
+  }
+
+  ~Decoder() {
+    if (png) png_destroy_read_struct(&png, info ? &info : nullptr, nullptr);
+    if (context.in) std::fclose(context.in);
+  }
+};
+
 PngReader::PngReader(std::string path, std::unique_ptr<Decoder> decoder, ImageHeader header, PngMetadata metadata)
     : path_(std::move(path)), decoder_(std::move(decoder)), header_(header), metadata_(std::move(metadata)) {}
 
@@ -251,11 +266,8 @@ std::unique_ptr<PngReader> PngReader::open(const std::string& path, const ImageR
   PngContext& context = decoder->context;
   context.in = std::fopen(path.c_str(), "rb");
   if (!context.in || !file_taken(context.in) || std::fseek(context.in, 0, SEEK_SET) != 0) return nullptr;
-  decoder->png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &context, on_error, on_warning);
-  if (!decoder->png) return nullptr;
-  decoder->info = png_create_info_struct(decoder->png);
   PngInfo info;
-  if (!decoder->info || !start_decoding(decoder->png, decoder->info, context, info)) return nullptr;
+  if (!decoder->start(info)) return nullptr;
   if (info.channels < 1 || info.channels > 4) return nullptr;
   if ((info.channels == 2 || info.channels == 4) && info.gamma_without_srgb) return nullptr;
 
@@ -297,8 +309,6 @@ std::unique_ptr<PngReader> PngReader::open(const std::string& path, const ImageR
   check_size_limit("input '" + path + "'", std::to_string(header.width) + "x" + std::to_string(header.height),
                    checked_product({header.width, header.height}), limits.max_pixels, limits.option);
   if (limits.check) limits.check(header);
-  decoder->row.resize(png_get_rowbytes(decoder->png, decoder->info));
-  decoder->interlaced = info.interlaced;
   return std::unique_ptr<PngReader>(new PngReader(path, std::move(decoder), header, std::move(metadata)));
 }
 
@@ -307,13 +317,8 @@ void PngReader::restart() {
   PngContext& context = decoder->context;
   context.in = std::fopen(path_.c_str(), "rb");
   if (!context.in) throw Error("cannot read '" + path_ + "': " + std::strerror(errno));
-  decoder->png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &context, on_error, on_warning);
-  if (!decoder->png) throw Error("cannot read '" + path_ + "': out of memory");
-  decoder->info = png_create_info_struct(decoder->png);
   PngInfo info;
-  if (!decoder->info || !start_decoding(decoder->png, decoder->info, context, info))
-    throw Error("cannot read '" + path_ + "': " + context.message);
-  decoder->row.resize(png_get_rowbytes(decoder->png, decoder->info));
+  if (!decoder->start(info)) throw Error("cannot read '" + path_ + "': " + context.message);
   decoder_ = std::move(decoder);
   next_row_ = 0;
 }
@@ -466,8 +471,12 @@ PngWriter::PngWriter(StagedOutput& stage, int file, const std::string& path, int
   Encoder& e = *encoder_;
   e.context.stage = &stage;
   e.context.file = file;
-  e.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &e.context, on_error, on_warning);
-  if (!e.png || !(e.info = png_create_info_struct(e.png))) throw Error("cannot write '" + path + "': out of memory");
+  auto create = [&] {
+    if (e.png) png_destroy_write_struct(&e.png, &e.info);
+    e.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &e.context, on_error, on_warning);
+    if (!e.png || !(e.info = png_create_info_struct(e.png))) throw Error("cannot write '" + path + "': out of memory");
+  };
+  create();
   constexpr int colour_types[4] = {PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA, PNG_COLOR_TYPE_RGB,
                                    PNG_COLOR_TYPE_RGB_ALPHA};
   std::vector<png_text> text;
@@ -479,23 +488,15 @@ PngWriter::PngWriter(StagedOutput& stage, int file, const std::string& path, int
       t.text = const_cast<char*>(value.c_str());
       text.push_back(t);
     }
-  PngHeaderChoice choice{png_uint_32(width),
-                               png_uint_32(height),
-                               sixteen_ ? 16 : 8,
-                               colour_types[channels - 1],
-                               png_encoding(encode),
-                               metadata,
-                               &text,
-                               true};
+  PngHeaderChoice choice{png_uint_32(width), png_uint_32(height), sixteen_ ? 16 : 8, colour_types[channels - 1],
+                         png_encoding(encode), metadata, &text, true};
   if (!start_encoding(e.png, e.info, e.context, choice)) {
     // libpng refuses a profile it judges malformed (and with it the file):
     // the image is then written without it, as write_image does.
     const std::string why = e.context.message;
     if (!metadata || metadata->icc_profile.empty() || e.context.written > 0)
       throw Error("cannot write '" + path + "': " + why);
-    png_destroy_write_struct(&e.png, &e.info);
-    e.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &e.context, on_error, on_warning);
-    if (!e.png || !(e.info = png_create_info_struct(e.png))) throw Error("cannot write '" + path + "': out of memory");
+    create();
     choice.with_profile = false;
     if (!start_encoding(e.png, e.info, e.context, choice))
       throw Error("cannot write '" + path + "': " + e.context.message);
