@@ -456,6 +456,15 @@ bool end_encoding(png_structp png, png_infop info, PngContext& context) {
   return true;
 }
 
+// std::clamp(std::round(v), 0, top) without a call to libm: a float plus
+// one half is exact in double, so truncating it rounds halves away from
+// zero as std::round does. NaN gives 0.
+inline unsigned quantized(float v, float top) {
+  if (!(v > 0.0f)) return 0;
+  if (!(v < top)) return static_cast<unsigned>(top);
+  return static_cast<unsigned>(static_cast<double>(v) + 0.5);
+}
+
 }  // namespace
 
 PngWriter::PngWriter(StagedOutput& stage, int file, const std::string& path, int width, int height, int channels,
@@ -525,13 +534,13 @@ void PngWriter::write(const float* rows, int count) {
     e.rows[std::size_t(r)] = out;
     if (sixteen_) {
       for (std::size_t i = 0; i < samples; ++i)
-        wide[i] = static_cast<std::uint16_t>(std::clamp(std::round(in[i] * top), 0.0f, top));
+        wide[i] = static_cast<std::uint16_t>(quantized(in[i] * top, top));
       if (alpha) dissociate_alpha(wide.data(), width_, channels_);
       for (std::size_t i = 0; i < samples; ++i)
         out[2 * i] = static_cast<unsigned char>(wide[i] >> 8), out[2 * i + 1] = static_cast<unsigned char>(wide[i] & 0xff);
     } else {
       for (std::size_t i = 0; i < samples; ++i)
-        out[i] = static_cast<unsigned char>(std::clamp(std::round(in[i] * top), 0.0f, top));
+        out[i] = static_cast<unsigned char>(quantized(in[i] * top, top));
       if (alpha) dissociate_alpha(out, width_, channels_);
     }
   }
