@@ -260,8 +260,8 @@ void apply_encode_options(const std::string& format, const EncodeOptions& option
   }
   const NamedCompression c = named_compression(format, options);
   if (format == "openexr") {
-    spec.attribute("compression", c.name);
-    if (c.level >= 0) spec.attribute("openexr:dwaCompressionLevel", static_cast<float>(c.level));
+    // OpenImageIO 2.4 reads the DWA level from the name only ("dwaa:45").
+    spec.attribute("compression", c.level >= 0 ? c.name + ":" + std::to_string(c.level) : c.name);
     if (options.half) spec.set_format(OIIO::TypeDesc::HALF);
     if (options.full_float) spec.set_format(OIIO::TypeDesc::FLOAT);
   } else if (format == "tiff") {

@@ -35,6 +35,24 @@ OIIO::ImageSpec spec_of(const std::string& path) {
 
 }  // namespace
 
+TEST_CASE("write_image: the DWA level of --compression dwaa:LEVEL reaches the file") {
+  // OpenImageIO 2.4 takes the level from the compression's name only
+  // ("dwaa:LEVEL"); given apart it was replaced by the default, 45.
+  const TempDir dir;
+  const Image img = texture(64, 48);
+  std::map<int, std::uintmax_t> sizes;
+  for (int level : {5, 45, 400}) {
+    EncodeOptions encode;
+    encode.compression = "dwaa:" + std::to_string(level);
+    const std::string path = dir / ("dwa" + std::to_string(level) + ".exr");
+    write_image(path, img, SampleFormat::uint8, -1, nullptr, encode);
+    CHECK(spec_of(path).get_float_attribute("openexr:dwaCompressionLevel") == float(level));
+    sizes[level] = std::filesystem::file_size(path);
+  }
+  CHECK(sizes[5] > sizes[45]);  // a lower level keeps more
+  CHECK(sizes[45] > sizes[400]);
+}
+
 TEST_CASE("write_image: PNG levels and filters round-trip the same pixels - a higher level is no larger") {
   const TempDir dir;
   const Image img = texture(96, 64);
