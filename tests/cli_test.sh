@@ -226,8 +226,8 @@ oiiotool "$work/tall.png" --tile 64 64 -o "$work/tall_tiled.tif"
 run_ok "banded tiled tif" "$work/tall_tiled.tif" "$work/bt.png" --scale 2 --model point --tile-rows 256  # w.png: point, above
 oiiotool "$work/bt.png" "$work/w.png" --diff --fail 0 >/dev/null && ok || bad "a tiled TIFF read by bands differs in its pixels"
 
-# The front: PNG to PNG without OpenImageIO (cli/front_main.cpp), the same
-# file as ddtscale-full's; the rest handed to ddtscale-full.
+# The front: PNG to PNG or EXR without OpenImageIO (cli/front_main.cpp),
+# the same file as ddtscale-full's; the rest handed to ddtscale-full.
 full="$(dirname "$bin")/ddtscale-full"
 if readelf -d "$bin" | grep -q OpenImageIO; then bad "the front links OpenImageIO"; else ok; fi
 run_ok "front, PNG to PNG" "$work/in.png" "$work/front.png" --scale 3
@@ -241,7 +241,9 @@ run_ok "front, RGBA PNG" "$work/rgba.png" "$work/front_rgba.png" --scale 2
 "$full" "$work/rgba.png" "$work/full_rgba.png" --scale 2 -q && cmp -s "$work/front_rgba.png" "$work/full_rgba.png" && ok ||
   bad "the front's RGBA PNG differs from ddtscale-full's"
 # Handed on: another output format, --compare, a subcommand's --help, a bad option.
-run_ok "front hands on EXR" "$work/in.png" "$work/front.exr" --scale 2
+run_ok "front hands on TIFF" "$work/in.png" "$work/front.tif" --scale 2
+run_ok "front hands on a tiled EXR" "$work/in.png" "$work/front_tiled.exr" --scale 2 --tile-size 64
+oiiotool --info -v "$work/front_tiled.exr" | grep -q "tile size: 64 x 64" && ok || bad "front: the tiled EXR is not tiled"
 run_ok "front hands on --compare" "$work/in.png" "$work/front_cmp.png" --scale 2 --compare bicubic
 "$bin" scene --help | grep -q -- "--scene\|scene" && ok || bad "front: scene --help"
 run_fail "front hands on a bad option" "$work/in.png" "$work/x.png" --no-such-option
@@ -251,9 +253,17 @@ mkdir -p "$work/alone" && cp "$bin" "$work/alone/ddtscale"
 "$bin" "$work/in.png" "$work/front_2.png" --scale 2 -q && "$work/alone/ddtscale" "$work/in.png" "$work/alone.png" --scale 2 -q &&
   cmp -s "$work/alone.png" "$work/front_2.png" && ok || bad "the front alone: PNG to PNG"
 saved_bin="$bin"; bin="$work/alone/ddtscale"
-run_fail "the front alone, EXR" "$work/in.png" "$work/alone.exr" --scale 2
+# PNG to EXR through OpenEXR alone (io/exr_file.hpp): half from 8 bits,
+# float from 16, the pixels ddtscale-full writes.
+run_ok "the front alone, PNG to EXR" "$work/in.png" "$work/alone.exr" --scale 2
+oiiotool --info -v "$work/alone.exr" | grep -q "half openexr" && ok || bad "the front alone: EXR not half"
+"$full" "$work/in.png" "$work/full_alone.exr" --scale 2 -q
+oiiotool "$work/alone.exr" "$work/full_alone.exr" --diff >/dev/null 2>&1 && ok || bad "the front alone: EXR pixels differ"
+run_ok "the front alone, 16-bit PNG to EXR" "$work/grey16.png" "$work/alone16.exr" --scale 2 --compression dwaa:80
+oiiotool --info -v "$work/alone16.exr" | grep -q "float openexr" && ok || bad "the front alone: 16-bit EXR not float"
+run_fail "the front alone, TIFF" "$work/in.png" "$work/alone.tif" --scale 2
 grep -q "cannot run .*ddtscale-full" "$work/err.txt" && ok || bad "the front alone: message $(cat "$work/err.txt")"
-[ ! -e "$work/alone.exr" ] && ok || bad "the front alone wrote an EXR"
+[ ! -e "$work/alone.tif" ] && ok || bad "the front alone wrote a TIFF"
 bin="$saved_bin"
 
 echo "$passed passed, $failed failed"

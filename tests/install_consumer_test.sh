@@ -39,5 +39,7 @@ fi
 "$work/prefix/bin/ddtscale" "$source/images/regression/inputs/strokes.png" "$work/cmd.png" --scale 2 -q ||
   { echo "FAIL: the installed ddtscale, PNG to PNG"; exit 1; }
 "$work/prefix/bin/ddtscale" "$source/images/regression/inputs/strokes.png" "$work/cmd.exr" --scale 2 -q ||
+  { echo "FAIL: the installed ddtscale, PNG to EXR"; exit 1; }
+"$work/prefix/bin/ddtscale" "$source/images/regression/inputs/strokes.png" "$work/cmd.tif" --scale 2 -q ||
   { echo "FAIL: the installed ddtscale, handed on to ddtscale-full"; exit 1; }
 echo "install and consumer: ok ($out)"

@@ -14,12 +14,6 @@
 namespace ddt {
 namespace {
 
-std::string first_line(std::string s) {
-  s = s.substr(0, s.find('\n'));
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\r')) s.pop_back();
-  return s;
-}
-
 Image opencv_resize(const Image& src, int out_w, int out_h, int interpolation) {
   Image out(out_w, out_h, src.channels);
   // Views of our buffers: cv::resize writes straight into `out` (it keeps a

@@ -5,6 +5,7 @@
 
 #include "io/image_io.hpp"
 #include "io/safe_file.hpp"
+#include "util/text.hpp"
 
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
@@ -18,12 +19,7 @@
 
 namespace ddt::detail {
 
-inline std::string first_line(std::string s) {
-  while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
-  auto nl = s.find('\n');
-  if (nl != std::string::npos) s = s.substr(0, nl);
-  return s;
-}
+using ddt::first_line;
 
 // libpng, under OpenImageIO, prints its own "libpng error: ..." (and
 // warnings) on stderr before OpenImageIO hands the same error to us; we
