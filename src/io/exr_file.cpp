@@ -13,7 +13,10 @@
 #include <OpenEXR/ImfStandardAttributes.h>
 #include <OpenEXR/ImfThreading.h>
 
+#include <immintrin.h>
+
 #include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <ctime>
 #include <exception>
@@ -113,6 +116,23 @@ void use_all_cores() {
   if (Imf::globalThreadCount() != cores) Imf::setGlobalThreadCount(cores);
 }
 
+// Floats to half floats, rounded to nearest (ties to even) as Imath's
+// half(float) rounds them: by F16C eight at a time where the processor has
+// it (Imath itself uses it when built for such processors), else Imath's.
+__attribute__((target("avx,f16c"))) void halves_by_f16c(const float* in, std::size_t n, Imath::half* out) {
+  std::size_t i = 0;
+  for (; i + 8 <= n; i += 8)
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + i),
+                     _mm256_cvtps_ph(_mm256_loadu_ps(in + i), _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC));
+  for (; i < n; ++i) out[i] = Imath::half(in[i]);
+}
+
+void to_halves(const float* in, std::size_t n, Imath::half* out) {
+  static const bool f16c = __builtin_cpu_supports("avx") && __builtin_cpu_supports("f16c");
+  if (f16c) return halves_by_f16c(in, n, out);
+  std::transform(in, in + n, out, [](float v) { return Imath::half(v); });
+}
+
 // The staged file as OpenEXR's output stream: it seeks back at the end to
 // write the table of line offsets.
 class StagedStream final : public Imf::OStream {
@@ -189,7 +209,7 @@ void ExrWriter::write(const float* rows, int count) {
   std::size_t sample_bytes = sizeof(float);
   if (e.type == Imf::HALF) {
     e.halves.resize(samples);
-    std::transform(rows, rows + samples, e.halves.begin(), [](float v) { return Imath::half(v); });
+    to_halves(rows, samples, e.halves.data());
     data = reinterpret_cast<const char*>(e.halves.data());
     sample_bytes = sizeof(Imath::half);
   }
