@@ -38,7 +38,9 @@ struct LocalCosts {
   // rounding noise, makes no flips. NaN never improves.
   bool improves(double relative_tolerance) const {
     const double g = gain();
-    return g > 0 && g > relative_tolerance * std::max({before, after, noise_scale});
+    // Two-argument maxima (the same left-to-right choice as the list form,
+    // which kept this test out of line in the optimizer's inner loop).
+    return g > 0 && g > relative_tolerance * std::max(std::max(before, after), noise_scale);
   }
 };
 
