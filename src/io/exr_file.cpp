@@ -13,6 +13,7 @@
 #include <OpenEXR/ImfStandardAttributes.h>
 #include <OpenEXR/ImfThreading.h>
 
+#include <cpuid.h>
 #include <immintrin.h>
 
 #include <algorithm>
@@ -128,7 +129,10 @@ __attribute__((target("avx,f16c"))) void halves_by_f16c(const float* in, std::si
 }
 
 void to_halves(const float* in, std::size_t n, Imath::half* out) {
-  static const bool f16c = __builtin_cpu_supports("avx") && __builtin_cpu_supports("f16c");
+  static const bool f16c = [] {
+    unsigned a = 0, b = 0, c = 0, d = 0;  // CPUID leaf 1: F16C in ECX (clang has no "f16c" for the builtin)
+    return __builtin_cpu_supports("avx") && __get_cpuid(1, &a, &b, &c, &d) && (c & bit_F16C) != 0;
+  }();
   if (f16c) return halves_by_f16c(in, n, out);
   std::transform(in, in + n, out, [](float v) { return Imath::half(v); });
 }
