@@ -33,8 +33,8 @@ bool starts_with(const std::string& text, const char* prefix) { return text.rfin
 bool plain_text_name(const std::string& name) {
   for (const char* plain : {"Artist", "DocumentName", "ImageDescription", "Copyright", "Make", "Model"})
     if (name == plain) return true;
-  return (starts_with(name, "Exif:") || starts_with(name, "GPS:") || starts_with(name, "IPTC:")) &&
-         name.find(':', name.find(':') + 1) == std::string::npos;
+  // Prefixes that name no OpenImageIO format (those are dropped).
+  return starts_with(name, "Exif:") || starts_with(name, "GPS:") || starts_with(name, "IPTC:");
 }
 
 Imf::PixelType pixel_type(SampleFormat source, const EncodeOptions& encode) {
@@ -72,7 +72,8 @@ std::vector<std::string> channel_names(int channels, int alpha_channel) {
   if (channels == 1) return {"Y"};
   static const char* const rgba[] = {"R", "G", "B", "A"};
   std::vector<std::string> names(rgba, rgba + channels);
-  if (alpha_channel >= 0 && alpha_channel < channels) names[std::size_t(alpha_channel)].assign(1, 'A');  // not = "A": a false -Wrestrict in GCC 12
+  // assign, not = "A": GCC 12 warns falsely (-Wrestrict) of the latter.
+  if (alpha_channel >= 0 && alpha_channel < channels) names[std::size_t(alpha_channel)].assign(1, 'A');
   return names;
 }
 

@@ -5,19 +5,24 @@
 #include "io/safe_file.hpp"
 
 #include <optional>
+#include <utility>
 
 namespace ddt {
 namespace {
 
-class PngOutputImage final : public OutputImage {
+// An image encoded by `Encoder` (PngWriter, ExrWriter: constructed from
+// the staged file, the path, the size and the encoder's own arguments)
+// into a staged file, each band on the encoding thread.
+template <class Encoder>
+class StagedBandOutput final : public OutputImage {
  public:
-  PngOutputImage(const std::string& path, int width, int height, int channels, SampleFormat source_format,
-                 const PngMetadata* metadata, const EncodeOptions& encode)
+  template <class... EncoderArguments>
+  StagedBandOutput(const std::string& path, int width, int height, int channels, EncoderArguments&&... arguments)
       : order_(path, width, height, channels), stage_(path) {
     name_ = stage_.target().filename().string();
     file_ = stage_.create(name_);
-    writer_.emplace(stage_, file_, path, width, height, channels, source_format, metadata, encode);
-    queue_.emplace([this](const Image& rows, int) { writer_->write(rows.pixels.data(), rows.height); });
+    encoder_.emplace(stage_, file_, path, width, height, channels, std::forward<EncoderArguments>(arguments)...);
+    queue_.emplace([this](const Image& rows, int) { encoder_->write(rows.pixels.data(), rows.height); });
   }
 
   void write(Image rows, int first_row) override {
@@ -27,7 +32,7 @@ class PngOutputImage final : public OutputImage {
   void finish() override {
     if (!order_.finish()) return;
     queue_->finish();
-    writer_->finish();
+    encoder_->finish();
     stage_.finish(file_);  // throws with the first write error (ENOSPC, EFBIG, EIO)
     stage_.commit({name_});
   }
@@ -38,39 +43,7 @@ class PngOutputImage final : public OutputImage {
   StagedOutput stage_;
   std::string name_;
   int file_ = -1;
-  std::optional<PngWriter> writer_;
-  std::optional<BandQueue> queue_;
-};
-
-class ExrOutputImage final : public OutputImage {
- public:
-  ExrOutputImage(const std::string& path, int width, int height, int channels, int alpha_channel,
-                 SampleFormat source_format, const ExrMetadata& metadata, const EncodeOptions& encode)
-      : order_(path, width, height, channels), stage_(path) {
-    name_ = stage_.target().filename().string();
-    file_ = stage_.create(name_);
-    writer_.emplace(stage_, file_, path, width, height, channels, alpha_channel, source_format, metadata, encode);
-    queue_.emplace([this](const Image& rows, int) { writer_->write(rows.pixels.data(), rows.height); });
-  }
-
-  void write(Image rows, int first_row) override {
-    if (order_.take(rows, first_row)) queue_->push(std::move(rows), first_row);
-  }
-
-  void finish() override {
-    if (!order_.finish()) return;
-    queue_->finish();
-    writer_->finish();
-    stage_.finish(file_);
-    stage_.commit({name_});
-  }
-
- private:
-  BandOrder order_;
-  StagedOutput stage_;
-  std::string name_;
-  int file_ = -1;
-  std::optional<ExrWriter> writer_;
+  std::optional<Encoder> encoder_;
   std::optional<BandQueue> queue_;
 };
 
@@ -91,7 +64,8 @@ ExrMetadata exr_metadata(const PngMetadata& png) {
 std::unique_ptr<OutputImage> create_png_output(const std::string& path, int width, int height, int channels,
                                                SampleFormat source_format, const PngMetadata* metadata,
                                                const EncodeOptions& encode) {
-  return std::make_unique<PngOutputImage>(path, width, height, channels, source_format, metadata, encode);
+  return std::make_unique<StagedBandOutput<PngWriter>>(path, width, height, channels, source_format, metadata,
+                                                       encode);
 }
 
 PngInputImage::PngInputImage(std::unique_ptr<PngReader> reader, OtherOutput other)
@@ -106,8 +80,8 @@ std::unique_ptr<OutputImage> PngInputImage::create_output(const std::string& pat
     return create_png_output(path, width, height, source.channels, source.format, &metadata, encode);
   const ExrMetadata exr = exr_metadata(metadata);
   if (exr_writes(path, width, height, source.channels, source.format, exr, encode))
-    return std::make_unique<ExrOutputImage>(path, width, height, source.channels, source.alpha_channel, source.format,
-                                            exr, encode);
+    return std::make_unique<StagedBandOutput<ExrWriter>>(path, width, height, source.channels, source.alpha_channel,
+                                                         source.format, exr, encode);
   return other_(path, width, height, source, metadata, encode);
 }
 

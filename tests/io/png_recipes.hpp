@@ -1,8 +1,9 @@
 #pragma once
 // PNG files made for the tests of io/png_file.hpp and io/exr_file.hpp:
-// libpng writing the chunks a test asks for, and float samples on and
-// beside the rounding boundaries.
+// libpng writing the chunks a test asks for, float samples on and beside
+// the rounding boundaries, and an image handed to an output in bands.
 
+#include "io/image_formats.hpp"
 #include "util/image.hpp"
 
 #include <doctest/doctest.h>
@@ -135,6 +136,18 @@ inline Image awkward_values(int width, int height, int channels, unsigned seed) 
       if (p + 1 < image.pixel_count()) image.pixels[(p + 1) * channels + channels - 1] = 1.0f;
     }
   return image;
+}
+
+// Hands `image` to `out` in two bands, as the file pipeline hands them,
+// and finishes it.
+inline void write_in_two_bands(OutputImage& out, const Image& image) {
+  const int half = image.height / 2;
+  Image top(image.width, half, image.channels), bottom(image.width, image.height - half, image.channels);
+  std::copy(image.pixels.begin(), image.pixels.begin() + std::ptrdiff_t(top.pixels.size()), top.pixels.begin());
+  std::copy(image.pixels.begin() + std::ptrdiff_t(top.pixels.size()), image.pixels.end(), bottom.pixels.begin());
+  out.write(std::move(top), 0);
+  out.write(std::move(bottom), half);
+  out.finish();
 }
 
 }  // namespace ddt::test

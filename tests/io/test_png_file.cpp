@@ -31,14 +31,7 @@ namespace {
 void write_natively(const std::string& path, const Image& image, SampleFormat format, const PngMetadata* metadata,
                     const EncodeOptions& encode) {
   auto out = create_png_output(path, image.width, image.height, image.channels, format, metadata, encode);
-  // In two bands, as the pipeline hands them.
-  const int half = image.height / 2;
-  Image top(image.width, half, image.channels), bottom(image.width, image.height - half, image.channels);
-  std::copy(image.pixels.begin(), image.pixels.begin() + std::ptrdiff_t(top.pixels.size()), top.pixels.begin());
-  std::copy(image.pixels.begin() + std::ptrdiff_t(top.pixels.size()), image.pixels.end(), bottom.pixels.begin());
-  out->write(std::move(top), 0);
-  out->write(std::move(bottom), half);
-  out->finish();
+  write_in_two_bands(*out, image);
 }
 
 }  // namespace
