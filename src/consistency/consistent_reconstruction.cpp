@@ -323,12 +323,14 @@ void make_consistent_streamed(int out_width, int out_height, WavefrontMeshes& me
   // bilinear surface), the measure two.
   // The reach of a mesh step grows with the triangles of the meshes made.
   const int K = options.mesh_steps, solve_reach = grid.reach();
-  int mesh_reach = 0, lag = 0, step = 0;
+  int mesh_reach = 0, lag = 0;
   auto update_reach = [&] {
     mesh_reach = meshes.triangle_rows() + 2;
     lag = K * mesh_reach + solve_reach + 2;
-    step = std::max(32, lag);  // input rows drawn at a time
   };
+  // Input rows drawn at a time: the output rows held are the lag and a step
+  // (docs/performance.md, "The wavefront's step").
+  constexpr int step = 16;
   const auto t_first = std::chrono::steady_clock::now();
   meshes.prepare(0);  // the first mesh (band): part of the surface's time, as the later ones
   surface_seconds += seconds_since(t_first);
@@ -464,11 +466,17 @@ void make_consistent_streamed(int out_width, int out_height, WavefrontMeshes& me
     }
     const int solvable = residual_done[K] == H ? H : std::max(solved, residual_done[K] - solve_reach);
     if (solvable > solved) {
+      // To the end of the canonical block that holds the last solvable row:
+      // its window's residual is here too (the block ends within
+      // block_rows - 1 rows, its window window_rows later), and a block is
+      // then solved once, not again for each step of rows that cuts it.
+      const int B = grid.block_rows();
+      const int through = solvable == H ? H : std::min(H, (solvable + B - 1) / B * B);
       const int first = std::max(0, solved - solve_reach), end = std::min(H, solvable + solve_reach);
-      grid.solve_rows(last_residual.rows(first, end), solved_rows, C, first, end, solved, solvable);
-      delta.make_room(solvable, keep);
+      grid.solve_rows(last_residual.rows(first, end), solved_rows, C, first, end, solved, through);
+      delta.make_room(through, keep);
       std::copy(solved_rows.begin(), solved_rows.end(), delta.row(solved));
-      solved = solvable;
+      solved = through;
     }
     // The solve's residual, max |r - G delta|, on the rows whose delta
     // rows within two are solved.
