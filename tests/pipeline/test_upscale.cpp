@@ -207,7 +207,7 @@ TEST_CASE("upscale: no ringing halos and no staircase along edges of the synthet
   // the 4x4 neighbourhood around each output pixel's position; bicubic and
   // Lanczos ring there, the default DDT render must not.
   const int w = 48, s = 4;
-  for (const char* name : {"edge_10", "edge_30", "edge_63", "disk", "strokes"}) {
+  for (const std::string name : {"edge_10", "edge_30", "edge_63", "disk", "strokes"}) {
     CAPTURE(name);
     const Image lr = render_scene(find_scene(name), w, w);
     const Image hr = render_scene(find_scene(name), w * s, w * s);
