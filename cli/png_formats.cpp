@@ -3,6 +3,7 @@
 // (io/exr_file.hpp), without OpenImageIO. Anything else throws
 // NeedsOpenImageIO before a byte is written, and the front runs its
 // command line again as ddtscale-full.
+
 #include "io/image_formats.hpp"
 #include "io/exr_file.hpp"
 #include "io/png_images.hpp"

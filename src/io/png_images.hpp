@@ -1,6 +1,7 @@
 #pragma once
 // The file pipeline's input and output images (image_formats.hpp) for PNG
-// through libpng alone (png_file.hpp): what both definitions of
+// through libpng alone (png_file.hpp), and a PNG's enlargement into EXR
+// through OpenEXR alone (exr_file.hpp): what both definitions of
 // image_formats.hpp's functions choose for a PNG they take.
 
 #include "io/image_formats.hpp"
@@ -18,9 +19,9 @@ std::unique_ptr<OutputImage> create_png_output(const std::string& path, int widt
                                                SampleFormat source_format, const PngMetadata* metadata,
                                                const EncodeOptions& encode);
 
-// A PNG read by rows. Its outputs that png_writes() does not take go to
-// `other` (the library: OpenImageIO's writer; the front: NeedsOpenImageIO),
-// with the metadata already scaled.
+// A PNG read by rows. Its outputs that png_writes() or exr_writes() do not
+// take go to `other` (the library: OpenImageIO's writer; the front:
+// NeedsOpenImageIO), with the metadata already scaled.
 class PngInputImage final : public InputImage {
  public:
   using OtherOutput = std::function<std::unique_ptr<OutputImage>(
