@@ -5,6 +5,7 @@
 #include "consistency/halo_limit.hpp"
 #include "consistency/step_edges.hpp"
 #include "image/rasterizer.hpp"
+#include "util/prefaulted_image.hpp"
 #include "util/timing.hpp"
 #include "consistency/input_statistics.hpp"
 
@@ -199,7 +200,8 @@ namespace {
 // room for the rows ahead.
 template <typename T>
 struct SlidingRows {
-  SlidingRows(std::size_t row_size, int capacity) : values(row_size * capacity), row_size(row_size), capacity(capacity) {}
+  SlidingRows(std::size_t row_size, int capacity)
+      : values(prefaulted_zeros<T>(row_size * capacity)), row_size(row_size), capacity(capacity) {}
   std::vector<T> values;
   std::size_t row_size;
   int capacity, origin = 0;
@@ -213,8 +215,7 @@ struct SlidingRows {
     origin = keep;
     if (end - origin > capacity) {
       capacity = end - origin;
-      values.reserve(row_size * capacity);  // exactly: resizing alone would double the vector
-      values.resize(row_size * capacity);
+      prefaulted_resize(values, row_size * capacity, T{});  // exactly: resizing alone would double the vector
     }
   }
   std::vector<T> rows(int first, int end) const {
@@ -360,7 +361,7 @@ void make_consistent_streamed(int out_width, int out_height, WavefrontMeshes& me
   std::vector<double> acquired, solved_rows, acquired_delta;
   // Output rows [window_origin, window_origin + window.height) of which
   // [row_of[finished], drawn_rows) are in use; finished rows make room.
-  Image window(out_width, std::min(out_height, row_of[std::min(H, lag + step + 4)] + 1), C);
+  Image window = prefaulted_image(out_width, std::min(out_height, row_of[std::min(H, lag + step + 4)] + 1), C);
   local.held_rows = window.height;
   int window_origin = 0, drawn_rows = 0;
   bool meshes_done = false;
@@ -384,7 +385,7 @@ void make_consistent_streamed(int out_width, int out_height, WavefrontMeshes& me
                   window.pixels.begin() + row_floats * (drawn_rows - window_origin), window.pixels.begin());
         window_origin = keep;
         if (cut - window_origin > window.height) {  // the reach has grown
-          Image wider(out_width, cut - window_origin, C);
+          Image wider = prefaulted_image(out_width, cut - window_origin, C);
           std::copy(window.pixels.begin(), window.pixels.begin() + row_floats * (drawn_rows - window_origin),
                     wider.pixels.begin());
           window = std::move(wider);

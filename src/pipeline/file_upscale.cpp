@@ -5,6 +5,7 @@
 #include "io/image_formats.hpp"
 #include "pipeline/banded_upscale.hpp"
 #include "pipeline/upscale.hpp"
+#include "util/prefaulted_image.hpp"
 #include "util/size_limits.hpp"
 #include "util/timing.hpp"
 
@@ -204,7 +205,7 @@ FileUpscaleResult upscale_file(FileUpscaleJob job) {
   } else {
     check_memory_fits("this job", upscale_job_bytes(header.width, header.height, header.channels, result.width,
                                                     result.height, options, job.stream));
-    Image image(header.width, header.height, header.channels);
+    Image image = prefaulted_image(header.width, header.height, header.channels);
     read_step([&] {
       input->read(0, header.height, image.pixels.data());
       return 0;

@@ -94,7 +94,7 @@ Mesh2 band_mesh(const std::vector<float>& values, int W, int C, const Band& band
   stages.begin("triangulate");
   Mesh2 mesh;
   {
-    std::vector<Point2> points(n);
+    std::vector<Point2> points = prefaulted_zeros<Point2>(n);
     tbb::parallel_for(band.top, band.bottom, [&](int y) {
       for (int x = 0; x < W; ++x) points[static_cast<std::size_t>(y - band.top) * W + x] = {x + 0.5, y + 0.5};
     });

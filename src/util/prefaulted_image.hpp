@@ -1,9 +1,11 @@
 #pragma once
 // ddt::prefaulted_image — a large image whose pages the kernel maps in one
-// system call (MADV_POPULATE_WRITE) before its zeros are written, instead
-// of taking a page fault per 4 KB page as they are first touched
-// (docs/performance.md, "Memory pages"). Where the kernel lacks the
-// advice, an ordinary allocation.
+// system call per block (MADV_POPULATE_WRITE) before its zeros are written,
+// instead of taking a page fault per 4 KB page as they are first touched,
+// the blocks shared among the threads: on a virtual machine the first write
+// to fresh memory is the expensive part (docs/performance.md, "Memory
+// pages", "Fresh memory on every thread"). Where the kernel lacks the
+// advice, the pages are only written first on every thread.
 //
 // prefaulted_image_async does it on a thread of its own, so that a caller
 // can allocate its output while it triangulates; get() on the future waits
@@ -17,10 +19,14 @@
 
 namespace ddt {
 
+// Maps the whole pages of [data, data + bytes) and writes zeros into them,
+// blocks of them on every thread of the caller's arena: storage not yet
+// holding objects (a vector's capacity beyond its size).
+void populate_pages(void* data, std::size_t bytes);
+
 // Reserves n elements (and `spare` more, unmapped, for the vector to grow
-// into), maps the n's whole pages in one call, then value-initializes them
-// (zeros written into pages already mapped).
-void populate_pages(const void* data, std::size_t bytes);
+// into), maps and first writes the n's pages on every thread, then
+// value-initializes them (zeros written again, into pages already there).
 template <class T>
 std::vector<T> prefaulted_zeros(std::size_t n, std::size_t spare = 0) {
   std::vector<T> v;
