@@ -9,7 +9,9 @@
 #include "util/timing.hpp"
 #include "consistency/input_statistics.hpp"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <chrono>
@@ -522,14 +524,18 @@ void make_consistent_streamed(int out_width, int out_height, WavefrontMeshes& me
 }
 
 int triangle_rows(const Mesh2& mesh, int first, int end) {
-  int span = 0;
-  for (std::size_t t = 0; t + 2 < mesh.tri.size(); t += 3) {
-    const double y0 = mesh.points[mesh.tri[t]].y, y1 = mesh.points[mesh.tri[t + 1]].y,
-                 y2 = mesh.points[mesh.tri[t + 2]].y;
-    const double lo = std::min({y0, y1, y2}), hi = std::max({y0, y1, y2});
-    if (hi >= first && lo <= end) span = std::max(span, static_cast<int>(std::ceil(hi - lo)));
-  }
-  return span;
+  return tbb::parallel_reduce(
+      tbb::blocked_range<std::size_t>(0, mesh.tri.size() / 3, 1 << 16), 0,
+      [&](const tbb::blocked_range<std::size_t>& range, int span) {
+        for (std::size_t t = 3 * range.begin(); t < 3 * range.end(); t += 3) {
+          const double y0 = mesh.points[mesh.tri[t]].y, y1 = mesh.points[mesh.tri[t + 1]].y,
+                       y2 = mesh.points[mesh.tri[t + 2]].y;
+          const double lo = std::min({y0, y1, y2}), hi = std::max({y0, y1, y2});
+          if (hi >= first && lo <= end) span = std::max(span, static_cast<int>(std::ceil(hi - lo)));
+        }
+        return span;
+      },
+      [](int a, int b) { return std::max(a, b); });
 }
 
 int triangle_rows(const Mesh2& mesh) {
