@@ -119,7 +119,7 @@ class TermPages {
     const index_t i = h - first_;
     std::unique_ptr<double[]>& page = pages_[static_cast<std::size_t>(i / page_size)];
     if (!page) {
-      page = std::make_unique<double[]>(page_size);
+      page = std::make_unique_for_overwrite<double[]>(page_size);  // written once, by the fill
       std::fill_n(page.get(), page_size, unknown);
     }
     return page[static_cast<std::size_t>(i % page_size)];
