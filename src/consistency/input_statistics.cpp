@@ -12,8 +12,8 @@ namespace ddt {
 
 namespace {
 
-// Per channel range and whether every sample is on each code grid, of
-// samples [first, end) (whole pixels).
+// The per channel range of samples [first, end) (whole pixels), and
+// whether every one of them is on the 8-bit code grid.
 struct Part {
   std::vector<float> min, max;
   bool on_8bit = true;
