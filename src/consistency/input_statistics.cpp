@@ -2,22 +2,19 @@
 
 #include "util/error.hpp"
 
-#include <tbb/parallel_for.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 namespace ddt {
 
 namespace {
-
-// The per channel range of samples [first, end) (whole pixels), and
-// whether every one of them is on the 8-bit code grid.
-struct Part {
-  std::vector<float> min, max;
-  bool on_8bit = true;
-};
 
 // A code c read as the float nearest c / levels is off by up to half a
 // float's spacing, 2^-24 of it: up to 0.002 of a code at 16 bits, more
@@ -28,57 +25,48 @@ bool on_code_grid(float value, double levels) {
   return std::abs(code - std::round(code)) < std::max(1e-3, 4 * std::abs(code) * 0x1p-24);
 }
 
-Part part_of(const std::vector<float>& pixels, int C, std::size_t first, std::size_t end) {
-  Part part;
-  part.min.assign(pixels.begin() + static_cast<std::ptrdiff_t>(first),
-                  pixels.begin() + static_cast<std::ptrdiff_t>(first) + C);
-  part.max = part.min;
-  for (std::size_t i = first; i < end; ++i) {
-    const int c = static_cast<int>((i - first) % C);
-    part.min[c] = std::min(part.min[c], pixels[i]);
-    part.max[c] = std::max(part.max[c], pixels[i]);
-  }
-  for (std::size_t i = first; i < end && part.on_8bit; ++i) part.on_8bit = on_code_grid(pixels[i], 255.0);
-  return part;
-}
-
 }  // namespace
 
 InputStatistics input_statistics(const Image& image) {
   if (image.empty() || image.channels < 1) throw Error("input statistics of an empty image");
   const int C = image.channels;
-  // Blocks of whole pixels, each on a thread; min, max and "and" merge in
+  const std::vector<float>& samples = image.pixels;
+  // Blocks of whole pixels, each on a thread: min, max and "and" merge in
   // any order to the same result.
-  constexpr std::size_t block_pixels = 1 << 16;
-  const std::size_t pixels = image.pixels.size() / C, blocks = (pixels + block_pixels - 1) / block_pixels;
-  std::vector<Part> parts(blocks);
-  tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t b) {
-    parts[b] = part_of(image.pixels, C, b * block_pixels * C, std::min(pixels, (b + 1) * block_pixels) * C);
-  });
+  const tbb::blocked_range<std::size_t> pixels(0, samples.size() / C, std::size_t(1) << 16);
+  using Range = std::pair<std::vector<float>, std::vector<float>>;  // per channel min, max
+  const std::vector<float> first(samples.begin(), samples.begin() + C);
   InputStatistics s;
-  s.min = parts[0].min;
-  s.max = parts[0].max;
-  bool on_8bit = true;
-  for (const Part& part : parts) {
-    for (int c = 0; c < C; ++c) {
-      s.min[c] = std::min(s.min[c], part.min[c]);
-      s.max[c] = std::max(s.max[c], part.max[c]);
-    }
-    on_8bit = on_8bit && part.on_8bit;
-  }
+  std::tie(s.min, s.max) = tbb::parallel_reduce(
+      pixels, Range{first, first},
+      [&](const tbb::blocked_range<std::size_t>& block, Range range) {
+        for (std::size_t p = block.begin(); p < block.end(); ++p)
+          for (int c = 0; c < C; ++c) {
+            const float v = samples[p * C + c];
+            range.first[c] = std::min(range.first[c], v);
+            range.second[c] = std::max(range.second[c], v);
+          }
+        return range;
+      },
+      [C](Range a, const Range& b) {
+        for (int c = 0; c < C; ++c) {
+          a.first[c] = std::min(a.first[c], b.first[c]);
+          a.second[c] = std::max(a.second[c], b.second[c]);
+        }
+        return a;
+      });
+  auto all_on_grid = [&](double levels) {
+    return tbb::parallel_reduce(
+        pixels, true,
+        [&](const tbb::blocked_range<std::size_t>& block, bool on) {
+          for (std::size_t i = block.begin() * C; i < block.end() * C && on; ++i) on = on_code_grid(samples[i], levels);
+          return on;
+        },
+        std::logical_and<>());
+  };
   // The 16-bit grid is asked only where the 8-bit one fails (an 8-bit
   // sample is a 16-bit one too: 1/255 = 257/65535).
-  const auto on_16bit = [&] {
-    std::vector<char> block_on(blocks);
-    tbb::parallel_for(std::size_t(0), blocks, [&](std::size_t b) {
-      bool on = true;
-      const std::size_t end = std::min(pixels, (b + 1) * block_pixels) * C;
-      for (std::size_t i = b * block_pixels * C; i < end && on; ++i) on = on_code_grid(image.pixels[i], 65535.0);
-      block_on[b] = on;
-    });
-    return std::all_of(block_on.begin(), block_on.end(), [](char on) { return on != 0; });
-  };
-  s.quantum = on_8bit ? 1 / 255.0 : on_16bit() ? 1 / 65535.0 : 0;
+  s.quantum = all_on_grid(255.0) ? 1 / 255.0 : all_on_grid(65535.0) ? 1 / 65535.0 : 0;
   return s;
 }
 
