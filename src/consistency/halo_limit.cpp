@@ -152,24 +152,26 @@ long long HaloLimiter::limit(Image& out, int first_row, int end_row) const {
   std::atomic<long long> limited{0};
   tbb::parallel_for(first_row, end_row, [&](int global_y) {
     const int y = global_y - top;  // the band's own row
-    // A footprint's pixels of every channel are gathered in one pass
-    // (channel-major), its 3x3 ranges found in another.
-    std::vector<float> all, o;
-    std::vector<float> lo3(C), hi3(C);
+    // A footprint's range in every channel is found in one pass over its
+    // pixels; only a channel that leaves its 3x3 range is gathered.
+    std::vector<float> o;
+    std::vector<float> lo3(C), hi3(C), omin(C), omax(C);
     long long count = 0;
     const int y0 = std::max(0, y - 1), y1 = std::min(src.height - 1, y + 1);
+    const int Y0 = f.first_y[global_y] - out_origin, Y1 = f.first_y[global_y + 1] - out_origin;
     for (int x = 0; x < src.width; ++x) {
       const int X0 = f.first_x[x], X1 = f.first_x[x + 1];
-      const int Y0 = f.first_y[global_y] - out_origin, Y1 = f.first_y[global_y + 1] - out_origin;
       const std::size_t n = static_cast<std::size_t>(X1 - X0) * (Y1 - Y0);
       if (n == 0) continue;
-      all.resize(n * C);
-      std::size_t i = 0;
-      for (int Y = Y0; Y < Y1; ++Y)
-        for (int X = X0; X < X1; ++X, ++i) {
-          const float* p = &out.pixels[out.index(X, Y)];
-          for (int c = 0; c < C; ++c) all[c * n + i] = p[c];
+      {
+        const float* first = &out.pixels[out.index(X0, Y0)];
+        for (int c = 0; c < C; ++c) omin[c] = omax[c] = first[c];
+        for (int Y = Y0; Y < Y1; ++Y) {
+          const float* p = &out.pixels[out.index(X0, Y)];
+          for (int X = X0; X < X1; ++X, p += C)
+            for (int c = 0; c < C; ++c) omin[c] = std::min(omin[c], p[c]), omax[c] = std::max(omax[c], p[c]);
         }
+      }
       for (int c = 0; c < C; ++c) lo3[c] = hi3[c] = src.at(x, y, c);
       for (int ny = y0; ny <= y1; ++ny)
         for (int nx = std::max(0, x - 1); nx <= std::min(src.width - 1, x + 1); ++nx) {
@@ -177,21 +179,22 @@ long long HaloLimiter::limit(Image& out, int first_row, int end_row) const {
           for (int c = 0; c < C; ++c) lo3[c] = std::min(lo3[c], p[c]), hi3[c] = std::max(hi3[c], p[c]);
         }
       for (int c = 0; c < C; ++c) {
-        const float* values = &all[c * n];
-        const auto [omin, omax] = std::minmax_element(values, values + n);
         // The bounds contain the 3x3 range: most footprints stay inside it.
-        if (*omin >= lo3[c] && *omax <= hi3[c]) continue;
+        if (omin[c] >= lo3[c] && omax[c] <= hi3[c]) continue;
         const auto [lo, hi] = halo_bounds(src, x, y, c, image_min[c], image_max[c]);
-        if (*omin >= lo && *omax <= hi) continue;
+        if (omin[c] >= lo && omax[c] <= hi) continue;
+        o.resize(n);
+        std::size_t k = 0;
+        for (int Y = Y0; Y < Y1; ++Y)
+          for (int X = X0; X < X1; ++X, ++k) o[k] = out.at(X, Y, c);
         double mean = 0;
-        for (std::size_t k = 0; k < n; ++k) mean += values[k];
+        for (std::size_t i = 0; i < n; ++i) mean += o[i];
         mean /= n;
         // The mean is the input pixel, inside [lo, hi] up to the solver's
         // tolerance; a mean on a bound leaves one answer, the flat bound.
         if (!(mean >= lo - 1e-5 && mean <= hi + 1e-5)) continue;  // cannot hold: keep the consistent values
-        o.assign(values, values + n);
         const double t = mean_keeping_shift(o, std::clamp(mean, double(lo), double(hi)), lo, hi);
-        std::size_t k = 0;
+        k = 0;
         for (int Y = Y0; Y < Y1; ++Y)
           for (int X = X0; X < X1; ++X, ++k)
             out.at(X, Y, c) = static_cast<float>(std::clamp(o[k] + t, double(lo), double(hi)));

@@ -260,27 +260,34 @@ long long StepEdgeRenderer::render(Image& out, int first_row, int end_row) const
     Window w;
     w.C = C;
     std::vector<float> o;
+    const std::ptrdiff_t row_stride = std::ptrdiff_t(W) * C;
     for (int x = 2; x < W - 2; ++x) {
+      // The 3x3 window read straight from the rows; the Window (positions
+      // and values in double) is filled only for the few pixels that pass
+      // the tests below, which turn away almost every pixel of a photograph.
+      const float* centre_pixel = &src.pixels[src.index(x, y - top)];
+      auto window_value = [&](int k, int c) -> double {
+        return centre_pixel[(k / 3 - 1) * row_stride + (k % 3 - 1) * C + c];
+      };
       // The channel with the largest step decides whether this is an edge
       // pixel at all: strictly between the levels around it.
       int main = -1;
       double main_step = min_step, lo_main = 0, hi_main = 0;
       std::array<double, max_channels> lo, hi;  // the first C entries, set below
-      for (int k = 0; k < window; ++k) {
-        const int px = x + k % 3 - 1, py = y + k / 3 - 1;
-        w.cx[k] = px + 0.5;
-        w.cy[k] = py + 0.5;
-        for (int c = 0; c < C; ++c) {
-          const double value = src.at(px, py - top, c);
-          w.value[k * C + c] = value;
-          lo[c] = k == 0 ? value : std::min(lo[c], value);
-          hi[c] = k == 0 ? value : std::max(hi[c], value);
+      for (int c = 0; c < C; ++c) {
+        float l = centre_pixel[-row_stride - C + c], h = l;  // from k = 0, as the fit reads the window
+        for (int k = 1; k < window; ++k) {
+          const float v = centre_pixel[(k / 3 - 1) * row_stride + (k % 3 - 1) * C + c];
+          l = std::min(l, v);
+          h = std::max(h, v);
         }
+        lo[c] = l;
+        hi[c] = h;
       }
       for (int c = 0; c < C; ++c)
         if (hi[c] - lo[c] >= main_step) main = c, main_step = hi[c] - lo[c], lo_main = lo[c], hi_main = hi[c];
       if (main < 0) continue;
-      const double centre = w.value[4 * C + main];
+      const double centre = window_value(4, main);
       const double margin = 1e-3 * main_step;
       if (!(centre > lo_main + margin && centre < hi_main - margin)) continue;
       // A straight line crosses at most 5 of the 3x3 pixels: the other 4 or
@@ -289,12 +296,17 @@ long long StepEdgeRenderer::render(Image& out, int first_row, int end_row) const
       const double allowed = options.tolerance * main_step + rounding;  // misfit of a 3x3 pixel
       const double near = 2 * allowed;
       for (int k = 0; k < window; ++k) {
-        const double value = w.value[k * C + main];
+        const double value = window_value(k, main);
         on_level += value <= lo_main + near || value >= hi_main - near;
       }
       if (on_level < 4) continue;
       const double reach = allowed + options.reach_tolerance * main_step + rounding + 1e-6 * main_step;
       if (!within_reach(src, top, x, y, lo, hi, reach)) continue;
+      for (int k = 0; k < window; ++k) {
+        w.cx[k] = x + k % 3 - 1 + 0.5;
+        w.cy[k] = y + k / 3 - 1 + 0.5;
+        for (int c = 0; c < C; ++c) w.value[k * C + c] = window_value(k, c);
+      }
       const EdgeFit fit = fit_edge(w, main, lo_main, hi_main, allowed);
       if (!(fit.misfit <= allowed)) continue;
       bool levels_inside = true;  // no level beyond what the window shows
