@@ -8,7 +8,7 @@ packages=(
   libopenimageio-dev openimageio-tools libopenexr-dev
   libeigen3-dev doctest-dev libtbb-dev libcli11-dev
   libteem-dev
-  libpng-dev zlib1g-dev
+  libpng-dev zlib1g-dev libisal-dev
   libcsv-dev
   liblcms2-dev
   libopencv-dev libvips-dev libvips-tools

@@ -194,7 +194,7 @@ def upscale_file(input: str, output: str, scale: Optional[float] = None,
     0: automatic, -1: one mesh), to the same bits too.
     Options are those of
     upscale() but compare and mesh, and the command line's for the file
-    (UPSCALE_FILE_OPTIONS): compression ("1:up:rle", "9:adaptive" for PNG;
+    (UPSCALE_FILE_OPTIONS): compression ("fast", "1:up:rle", "9:adaptive" for PNG;
     "piz", "zip", "dwaa:45" for EXR; "lzw", "jpeg:90" for TIFF), quality
     (JPEG, 1 to 100), half and float (EXR samples), tile_size (TIFF and EXR
     tiles), no_stream, max_input_pixels. Returns the output's (height, width).

@@ -1,5 +1,7 @@
 #include "io/png_file.hpp"
 
+#include "io/png_idat.hpp"
+
 #include "util/error.hpp"
 #include "util/file_names.hpp"
 #include "util/text.hpp"
@@ -387,6 +389,7 @@ struct PngWriter::Encoder {
   png_infop info = nullptr;
   std::vector<unsigned char> bytes;
   std::vector<png_bytep> rows;
+  std::unique_ptr<IdatEncoder> fast;  // the image data by igzip (`fast`), else by libpng
 
   ~Encoder() {
     if (png) png_destroy_write_struct(&png, info ? &info : nullptr);
@@ -510,6 +513,17 @@ PngWriter::PngWriter(StagedOutput& stage, int file, const std::string& path, int
     if (!start_encoding(e.png, e.info, e.context, choice))
       throw Error("cannot write '" + path + "': " + e.context.message);
   }
+  if (choice.encoding.fast) {
+    const std::size_t sample_bytes = sixteen_ ? 2 : 1;
+    PngContext* context = &e.context;
+    e.fast = std::make_unique<IdatEncoder>(
+        std::size_t(width) * channels * sample_bytes, channels * sample_bytes, std::size_t(height),
+        png_filter_type(choice.encoding.filter),
+        [context](const unsigned char* bytes, std::size_t size) {
+          context->stage->write(context->file, bytes, size);  // its errors come at finish()
+          context->written += size;
+        });
+  }
 }
 
 PngWriter::~PngWriter() = default;
@@ -544,7 +558,9 @@ void PngWriter::write(const float* rows, int count) {
       if (alpha) dissociate_alpha(out, width_, channels_);
     }
   }
-  if (!write_rows(e.png, e.context, e.rows.data(), png_uint_32(count)))
+  if (e.fast)
+    e.fast->write(e.bytes.data(), count);
+  else if (!write_rows(e.png, e.context, e.rows.data(), png_uint_32(count)))
     throw Error("cannot write '" + path_ + "': " + e.context.message);
   written_ += count;
 }
@@ -552,7 +568,10 @@ void PngWriter::write(const float* rows, int count) {
 void PngWriter::finish() {
   if (written_ != height_) throw Error("cannot write '" + path_ + "': only " + std::to_string(written_) + " rows");
   Encoder& e = *encoder_;
-  if (!end_encoding(e.png, e.info, e.context)) throw Error("cannot write '" + path_ + "': " + e.context.message);
+  if (e.fast)
+    e.fast->finish();
+  else if (!end_encoding(e.png, e.info, e.context))
+    throw Error("cannot write '" + path_ + "': " + e.context.message);
 }
 
 }  // namespace ddt

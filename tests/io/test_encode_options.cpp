@@ -75,7 +75,7 @@ TEST_CASE("write_image: PNG levels and filters round-trip the same pixels - a hi
   CHECK(std::filesystem::file_size(dir / "l0.png") >= std::uintmax_t(96 * 64 * 3 + 64));
 }
 
-TEST_CASE("write_image: the PNG strategy reaches zlib - the default is 1:up:rle") {
+TEST_CASE("write_image: the PNG strategy reaches zlib - the default, fast, is zlib's 1:up:rle there") {
   const TempDir dir;
   const Image img = texture(96, 64);
   std::map<std::string, std::uintmax_t> sizes;
@@ -93,7 +93,7 @@ TEST_CASE("write_image: the PNG strategy reaches zlib - the default is 1:up:rle"
     CHECK(back.image.pixels == first);
     sizes[text] = std::filesystem::file_size(path);
   }
-  CHECK(default_compression("png") == "1:up:rle");
+  CHECK(default_compression("png") == "fast");  // igzip where ddtscale writes the PNG itself (png_idat.hpp)
   CHECK(sizes[""] == sizes["1:up:rle"]);
   CHECK(sizes["1:up"] == sizes["1:up:default"]);  // zlib's default strategy when none is named
   // Huffman coding alone finds no repeated strings: other bytes than the others.
@@ -192,6 +192,12 @@ TEST_CASE("check_encode_options: bad values are refused with the option's name")
   refused("o.png", e, "unknown PNG filter");
   e.compression = "1:up:zigzag";
   refused("o.png", e, "unknown zlib strategy");
+  e.compression = "fast:adaptive";
+  refused("o.png", e, "fast takes a filter only");
+  e.compression = "fast:up:rle";
+  refused("o.png", e, "fast takes a filter only");
+  e.compression = "fast:diagonal";
+  refused("o.png", e, "unknown PNG filter");
   e.compression = "zap";
   refused("o.exr", e, "EXR compression is one of");
   e.compression = "zip:4";
@@ -210,5 +216,7 @@ TEST_CASE("check_encode_options: bad values are refused with the option's name")
   fine.compression = "dwaa:60";
   CHECK_NOTHROW(check_encode_options("o.exr", fine));
   fine.compression = "6:paeth";
+  CHECK_NOTHROW(check_encode_options("o.png", fine));
+  fine.compression = "fast:paeth";
   CHECK_NOTHROW(check_encode_options("o.png", fine));
 }

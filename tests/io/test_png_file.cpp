@@ -12,8 +12,11 @@
 
 #include <doctest/doctest.h>
 #include <png.h>
+#include <zlib.h>
 
+#include <array>
 #include <csetjmp>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
@@ -32,6 +35,59 @@ void write_natively(const std::string& path, const Image& image, SampleFormat fo
                     const EncodeOptions& encode) {
   auto out = create_png_output(path, image.width, image.height, image.channels, format, metadata, encode);
   write_in_two_bands(*out, image);
+}
+
+// A PNG file's chunks other than IDAT (type and data, in order, every CRC
+// checked) and its image data inflated: what two encoders of the same
+// image with the same filter must agree on, whatever their compressor.
+struct PngLayout {
+  std::vector<std::pair<std::string, std::vector<unsigned char>>> chunks;
+  std::vector<unsigned char> image_data;
+  bool valid = true;
+  int idat_chunks = 0;
+};
+
+PngLayout png_layout(const std::string& path) {
+  const std::vector<char> file = bytes_of(path);
+  const auto* b = reinterpret_cast<const unsigned char*>(file.data());
+  PngLayout layout;
+  static constexpr std::array<unsigned char, 8> signature = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (file.size() < 8 || !std::equal(signature.begin(), signature.end(), b)) return layout.valid = false, layout;
+  std::vector<unsigned char> compressed;
+  std::size_t at = 8;
+  bool ended = false;
+  while (at + 12 <= file.size() && !ended) {
+    const std::uint32_t n = std::uint32_t(b[at]) << 24 | std::uint32_t(b[at + 1]) << 16 | std::uint32_t(b[at + 2]) << 8 | b[at + 3];
+    if (at + 12 + n > file.size()) break;
+    const std::string type(file.data() + at + 4, 4);
+    const std::uint32_t crc = std::uint32_t(b[at + 8 + n]) << 24 | std::uint32_t(b[at + 9 + n]) << 16 |
+                              std::uint32_t(b[at + 10 + n]) << 8 | b[at + 11 + n];
+    layout.valid = layout.valid && crc32(0, b + at + 4, uInt(n + 4)) == crc;
+    if (type == "IDAT") {
+      compressed.insert(compressed.end(), b + at + 8, b + at + 8 + n);
+      ++layout.idat_chunks;
+    } else {
+      layout.chunks.emplace_back(type, std::vector<unsigned char>(b + at + 8, b + at + 8 + n));
+    }
+    ended = type == "IEND";
+    at += 12 + n;
+  }
+  layout.valid = layout.valid && ended && at == file.size();
+  z_stream z{};
+  std::vector<unsigned char> out(1 << 16);
+  if (inflateInit(&z) != Z_OK) return layout.valid = false, layout;
+  z.next_in = compressed.data();
+  z.avail_in = uInt(compressed.size());
+  int status = Z_OK;
+  while (status == Z_OK) {
+    z.next_out = out.data();
+    z.avail_out = uInt(out.size());
+    status = inflate(&z, Z_NO_FLUSH);
+    layout.image_data.insert(layout.image_data.end(), out.data(), out.data() + (out.size() - z.avail_out));
+  }
+  layout.valid = layout.valid && status == Z_STREAM_END && z.avail_in == 0;
+  inflateEnd(&z);
+  return layout;
 }
 
 }  // namespace
@@ -214,13 +270,55 @@ TEST_CASE("PngWriter: OpenImageIO's bytes, with the time, resolution and text ca
     const ImageFile file = read_image(dir / "in.png");
     const int out_w = c.width * 3, out_h = c.height * 2;
     const Image image = awkward_values(out_w, out_h, reader->header().channels, unsigned(c.width));
+    // zlib: the same bytes (the default, fast, is zlib's 1:up:rle in OpenImageIO).
     EncodeOptions encode;
-    encode.compression = c.compression;
+    encode.compression = c.compression.empty() ? "1:up:rle" : c.compression;
     const PngMetadata metadata = scaled_png_metadata(reader->metadata(), 3.0, 2.0);
     write_natively(dir / "native.png", image, reader->header().format, &metadata, encode);
     const auto attributes = scaled_metadata(file.metadata, 3.0, 2.0);
     write_image(dir / "oiio.png", image, file.format, file.alpha_channel, &attributes, encode);
     CHECK(bytes_of(dir / "native.png") == bytes_of(dir / "oiio.png"));
+    // igzip (the default): the same chunks, and the same filtered rows inside.
+    if (c.compression.empty()) {
+      write_natively(dir / "fast.png", image, reader->header().format, &metadata, {});
+      write_image(dir / "oiio_default.png", image, file.format, file.alpha_channel, &attributes, {});
+      const PngLayout fast = png_layout(dir / "fast.png"), oiio = png_layout(dir / "oiio_default.png");
+      CHECK(fast.valid);
+      CHECK(oiio.valid);
+      CHECK(fast.chunks == oiio.chunks);
+      CHECK(fast.image_data == oiio.image_data);
+      CHECK(bytes_of(dir / "fast.png") != bytes_of(dir / "oiio_default.png"));  // another compressor indeed
+    }
+  }
+}
+
+TEST_CASE("PngWriter: fast with every filter, 8 and 16 bits, many IDAT chunks: the rows zlib's libpng filters") {
+  const TempDir dir;
+  struct Kind {
+    int width, height, channels;
+    SampleFormat format;
+  };
+  // 700x400 RGB of noise holds more than one 256 KB chunk of image data.
+  for (const Kind k : {Kind{1, 1, 1, SampleFormat::uint8}, Kind{9, 1, 3, SampleFormat::uint8}, Kind{1, 6, 1, SampleFormat::uint16},
+                       Kind{13, 9, 2, SampleFormat::uint16},
+                       Kind{31, 17, 4, SampleFormat::uint8}, Kind{700, 400, 3, SampleFormat::uint8}}) {
+    for (const char* filter : {"none", "sub", "up", "avg", "paeth"}) {
+      CAPTURE(k.width);
+      CAPTURE(filter);
+      const Image image = awkward_values(k.width, k.height, k.channels, unsigned(k.width + 5));
+      EncodeOptions fast, zlib;
+      fast.compression = std::string("fast:") + filter;
+      zlib.compression = std::string("6:") + filter;
+      write_natively(dir / "fast.png", image, k.format, nullptr, fast);
+      write_natively(dir / "zlib.png", image, k.format, nullptr, zlib);
+      const PngLayout a = png_layout(dir / "fast.png"), b = png_layout(dir / "zlib.png");
+      CHECK(a.valid);
+      CHECK(a.chunks == b.chunks);
+      CHECK(a.image_data == b.image_data);
+      if (k.width == 700) CHECK(a.idat_chunks > 1);
+      const ImageFile back = read_image(dir / "fast.png");
+      CHECK(back.image.pixels == read_image(dir / "zlib.png").image.pixels);
+    }
   }
 }
 
@@ -246,10 +344,12 @@ TEST_CASE("PngWriter: a profile libpng refuses is dropped, as write_image drops 
   const Image image = awkward_values(9, 7, 3, 3);
   PngMetadata metadata;
   metadata.icc_profile.assign(60, 7);  // no ICC header
-  write_natively(dir / "native.png", image, SampleFormat::uint8, &metadata, {});
+  EncodeOptions zlib;
+  zlib.compression = "1:up:rle";
+  write_natively(dir / "native.png", image, SampleFormat::uint8, &metadata, zlib);
   OIIO::ParamValueList attributes;
   attributes.attribute("ICCProfile", OIIO::TypeDesc(OIIO::TypeDesc::UINT8, 60), metadata.icc_profile.data());
-  write_image(dir / "oiio.png", image, SampleFormat::uint8, -1, &attributes, {});
+  write_image(dir / "oiio.png", image, SampleFormat::uint8, -1, &attributes, zlib);
   CHECK(bytes_of(dir / "native.png") == bytes_of(dir / "oiio.png"));
   CHECK_FALSE(read_image(dir / "native.png").metadata.contains("ICCProfile"));
 }
