@@ -26,37 +26,40 @@ FootprintPixels footprint_pixels(int W, int H, int out_w, int out_h) {
 // strokes gets no brighter than the background seen within two pixels.
 std::pair<float, float> halo_bounds(const Image& src, int x, int y, int c, float image_min, float image_max) {
   const float centre = src.at(x, y, c);
-  float lo3 = centre, hi3 = centre, lo5 = centre, hi5 = centre;
-  bool strict_min3 = true, strict_max3 = true, strict_min5 = true, strict_max5 = true;
-  auto take = [&](float v, bool inner) {
-    if (inner) {
-      lo3 = std::min(lo3, v);
-      hi3 = std::max(hi3, v);
-      strict_min3 = strict_min3 && v > centre;
-      strict_max3 = strict_max3 && v < centre;
-    }
-    lo5 = std::min(lo5, v);
-    hi5 = std::max(hi5, v);
-    strict_min5 = strict_min5 && v > centre;
-    strict_max5 = strict_max5 && v < centre;
+  const bool inside = x >= 2 && y >= 2 && x + 2 < src.width && y + 2 < src.height;  // nothing clamped
+  const std::ptrdiff_t step_x = src.channels, step_y = std::ptrdiff_t(src.width) * src.channels;
+  const float* p = &src.pixels[src.index(x, y)] + c;
+  auto at = [&](int dx, int dy) {
+    if (inside) return p[dy * step_y + dx * step_x];
+    return src.at(std::clamp(x + dx, 0, src.width - 1), std::clamp(y + dy, 0, src.height - 1), c);
   };
-  if (x >= 2 && y >= 2 && x + 2 < src.width && y + 2 < src.height) {  // nothing clamped: direct strides
-    const std::ptrdiff_t step_x = src.channels, step_y = std::ptrdiff_t(src.width) * src.channels;
-    const float* p = &src.pixels[src.index(x, y)] + c;
-    for (int dy = -2; dy <= 2; ++dy)
-      for (int dx = -2; dx <= 2; ++dx)
-        if (dx != 0 || dy != 0) take(p[dy * step_y + dx * step_x], std::abs(dx) <= 1 && std::abs(dy) <= 1);
-  } else {
-    for (int dy = -2; dy <= 2; ++dy)
-      for (int dx = -2; dx <= 2; ++dx) {
-        const int nx = std::clamp(x + dx, 0, src.width - 1), ny = std::clamp(y + dy, 0, src.height - 1);
-        if (nx == x && ny == y) continue;
-        take(src.at(nx, ny, c), std::abs(dx) <= 1 && std::abs(dy) <= 1);
-      }
-  }
-  const float lo = !strict_min3 ? lo3 : strict_min5 ? image_min : lo5;
-  const float hi = !strict_max3 ? hi3 : strict_max5 ? image_max : hi5;
-  return {lo, hi};
+  auto is_centre = [&](int dx, int dy) {  // a clamped neighbour that lands on the centre is not one
+    return !inside && std::clamp(x + dx, 0, src.width - 1) == x && std::clamp(y + dy, 0, src.height - 1) == y;
+  };
+  // The 3x3 first: the 5x5's outer ring matters only for a strict 3x3
+  // extremum, which few pixels are.
+  float lo = centre, hi = centre;
+  bool strict_min = true, strict_max = true;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      if ((dx == 0 && dy == 0) || is_centre(dx, dy)) continue;
+      const float v = at(dx, dy);
+      lo = std::min(lo, v), hi = std::max(hi, v);
+      strict_min = strict_min && v > centre;
+      strict_max = strict_max && v < centre;
+    }
+  if (!strict_min && !strict_max) return {lo, hi};
+  float lo5 = lo, hi5 = hi;
+  bool strict_min5 = strict_min, strict_max5 = strict_max;
+  for (int dy = -2; dy <= 2; ++dy)
+    for (int dx = -2; dx <= 2; ++dx) {
+      if ((std::abs(dx) <= 1 && std::abs(dy) <= 1) || is_centre(dx, dy)) continue;
+      const float v = at(dx, dy);
+      lo5 = std::min(lo5, v), hi5 = std::max(hi5, v);
+      strict_min5 = strict_min5 && v > centre;
+      strict_max5 = strict_max5 && v < centre;
+    }
+  return {strict_min ? (strict_min5 ? image_min : lo5) : lo, strict_max ? (strict_max5 ? image_max : hi5) : hi};
 }
 
 namespace {
