@@ -162,6 +162,15 @@ run_ok "png level 0" "$work/in.png" "$work/l0.png" --scale 3 --compression 0:non
 run_ok "png level 9" "$work/in.png" "$work/l9.png" --scale 3 --compression 9:adaptive
 [ "$(stat -c %s "$work/l9.png")" -le "$(stat -c %s "$work/l0.png")" ] && ok || bad "png level 9 larger than level 0"
 oiiotool "$work/l0.png" "$work/l9.png" --diff >/dev/null && ok || bad "png levels decode differently"
+# The default, fast (ISA-L's igzip), and zlib's 1:up:rle: the same pixels,
+# in valid PNGs; fast takes a filter; a JPEG's PNG (through OpenImageIO) too.
+run_ok "png fast (default)" "$work/in.png" "$work/fast.png" --scale 3
+run_ok "png zlib 1:up:rle" "$work/in.png" "$work/zlib1.png" --scale 3 --compression 1:up:rle
+oiiotool "$work/fast.png" "$work/zlib1.png" --diff >/dev/null && ok || bad "png fast decodes differently from zlib"
+run_ok "png fast:paeth" "$work/in.png" "$work/paeth.png" --scale 3 --compression fast:paeth
+oiiotool "$work/fast.png" "$work/paeth.png" --diff >/dev/null && ok || bad "png fast:paeth decodes differently"
+run_ok "jpeg to png, default" "$work/portrait.jpg" "$work/portrait_fast.png" --scale 2
+run_fail "png fast adaptive" "$work/in.png" "$work/o.png" --scale 2 --compression fast:adaptive
 run_ok "exr half" "$work/grey16.png" "$work/h.exr" --scale 2 --half --compression zip
 oiiotool --info "$work/h.exr" | grep -q half && ok || bad "--half: not a half EXR ($(oiiotool --info "$work/h.exr"))"
 run_ok "tiff lzw" "$work/in.png" "$work/c.tif" --scale 2 --compression lzw

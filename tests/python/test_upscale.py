@@ -7,6 +7,7 @@ import sys
 import threading
 import time
 import warnings
+import zlib
 
 import numpy as np
 import pytest
@@ -295,6 +296,20 @@ def test_upscale_file_mesh_bands_write_the_bits_of_one_mesh(tmp_path, capfd):
     np.testing.assert_array_equal(_read_ppm(tmp_path / "b.ppm"), _read_ppm(tmp_path / "o.ppm"))
 
 
+def _png_image_data(path):
+    """A PNG's IDAT chunks joined and inflated (every chunk's CRC checked)."""
+    data, at, idat = open(path, "rb").read(), 8, b""
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    while at < len(data):
+        n = int.from_bytes(data[at:at + 4], "big")
+        kind, body = data[at + 4:at + 8], data[at + 8:at + 8 + n]
+        assert zlib.crc32(kind + body) == int.from_bytes(data[at + 8 + n:at + 12 + n], "big")
+        if kind == b"IDAT":
+            idat += body
+        at += 12 + n
+    return zlib.decompress(idat)
+
+
 def test_upscale_file_takes_the_command_lines_file_options(textured, tmp_path):
     image = (textured * 255).round().astype(np.uint8)
     _write_ppm(tmp_path / "in.ppm", image)
@@ -306,8 +321,16 @@ def test_upscale_file_takes_the_command_lines_file_options(textured, tmp_path):
     ddtscale.upscale_file(tmp_path / "in.ppm", half, 2, half=True, quiet=True)
     ddtscale.upscale_file(tmp_path / "in.ppm", full, 2, float=True, quiet=True)
     assert os.path.getsize(half) < os.path.getsize(full)
+    # PNG: the default (igzip) and zlib's levels, the same pixels.
+    ddtscale.upscale_file(tmp_path / "in.ppm", tmp_path / "small.png", 2, quiet=True)
+    png_in = tmp_path / "small.png"
+    ddtscale.upscale_file(png_in, tmp_path / "fast.png", 2, compression="fast:sub", quiet=True)
+    ddtscale.upscale_file(png_in, tmp_path / "zlib.png", 2, compression="9:sub", quiet=True)
+    assert _png_image_data(tmp_path / "fast.png") == _png_image_data(tmp_path / "zlib.png")  # the same filtered rows
+    assert open(tmp_path / "fast.png", "rb").read() != open(tmp_path / "zlib.png", "rb").read()
     for options, message in [(dict(quality=0), "--quality"), (dict(compression="zip"), "--compression"),
                              (dict(compression="1:up:zigzag"), "unknown zlib strategy"),
+                             (dict(compression="fast:adaptive"), "fast takes a filter only"),
                              (dict(half=True, float=True), "--half"), (dict(tile_size=8), "--tile-size"),
                              (dict(compare="bicubic"), "unknown option 'compare'"),
                              (dict(max_input_pixels=100), "--max-input-pixels"),
