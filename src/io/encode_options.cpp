@@ -47,8 +47,9 @@ int split_level(const std::string& text, std::string& name, int absent, int lo, 
 // zlib's strategies, as OpenImageIO's PNG writer names them ("compression").
 const std::vector<std::string> png_strategies = {"default", "filtered", "huffman", "rle", "fixed"};
 
-// PNG: LEVEL[:FILTER[:STRATEGY]]; returns the level and sets `filter` and
-// `strategy` (zlib's default when not given).
+// PNG: fast[:FILTER] or LEVEL[:FILTER[:STRATEGY]]; returns the zlib level
+// and sets `filter`, `strategy` (zlib's default when not given) and `fast`
+// (then level 1 and rle: zlib's nearest, where OpenImageIO writes).
 int parse_png(const std::string& text, int& filter, std::string& strategy, bool& fast) {
   const auto colon = text.find(':');
   const std::string level = text.substr(0, colon);
@@ -58,7 +59,6 @@ int parse_png(const std::string& text, int& filter, std::string& strategy, bool&
   strategy = second == std::string::npos ? "default" : rest.substr(second + 1);
   fast = level == "fast";
   if (fast) {
-    // zlib's nearest, where OpenImageIO writes the file
     if (second != std::string::npos || name == "adaptive")
       throw Error("--compression " + text + ": PNG's fast takes a filter only: fast[:none|sub|up|avg|paeth]");
     strategy = "rle";

@@ -559,9 +559,13 @@ void PngWriter::write(const float* rows, int count) {
       if (alpha) dissociate_alpha(out, width_, channels_);
     }
   }
-  if (e.fast)
-    e.fast->write(e.bytes.data(), count);
-  else if (!write_rows(e.png, e.context, e.rows.data(), png_uint_32(count)))
+  if (e.fast) {
+    try {
+      e.fast->write(e.bytes.data(), count);
+    } catch (const Error& error) {
+      throw Error("cannot write '" + path_ + "': " + error.what());
+    }
+  } else if (!write_rows(e.png, e.context, e.rows.data(), png_uint_32(count)))
     throw Error("cannot write '" + path_ + "': " + e.context.message);
   written_ += count;
 }
@@ -569,10 +573,15 @@ void PngWriter::write(const float* rows, int count) {
 void PngWriter::finish() {
   if (written_ != height_) throw Error("cannot write '" + path_ + "': only " + std::to_string(written_) + " rows");
   Encoder& e = *encoder_;
-  if (e.fast)
-    e.fast->finish();
-  else if (!end_encoding(e.png, e.info, e.context))
+  if (e.fast) {
+    try {
+      e.fast->finish();
+    } catch (const Error& error) {
+      throw Error("cannot write '" + path_ + "': " + error.what());
+    }
+  } else if (!end_encoding(e.png, e.info, e.context)) {
     throw Error("cannot write '" + path_ + "': " + e.context.message);
+  }
 }
 
 }  // namespace ddt

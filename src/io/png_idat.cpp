@@ -109,7 +109,7 @@ IdatEncoder::~IdatEncoder() = default;
 
 void IdatEncoder::write(const unsigned char* rows, int count) {
   Stream& s = *stream_;
-  if (s.finished) throw Error("PNG image data: rows after the end");
+  if (s.finished) throw Error("image rows after the end of the image data");
   // Row by row, through one row's buffer: igzip buffers what it needs.
   s.filtered.resize(s.row_bytes + 1);
   for (int r = 0; r < count; ++r) {
@@ -128,11 +128,14 @@ void IdatEncoder::compress(const unsigned char* bytes, std::size_t size, bool la
   s.z.end_of_stream = last ? 1 : 0;
   s.z.flush = NO_FLUSH;
   for (;;) {
+    const std::uint32_t in_before = s.z.avail_in, out_before = s.z.avail_out;
     const int status = isal_deflate(&s.z);
-    if (status != COMP_OK) throw Error("PNG image data: igzip failed (" + std::to_string(status) + ")");
+    if (status != COMP_OK) throw Error("igzip failed (status " + std::to_string(status) + ")");
     const bool done = last ? s.z.internal_state.state == ZSTATE_END : s.z.avail_in == 0;
+    const bool stalled = s.z.avail_in == in_before && s.z.avail_out == out_before;
     if (s.z.avail_out == 0) emit_chunk();
     if (done) break;
+    if (stalled) throw Error("igzip made no progress");
   }
 }
 
