@@ -197,21 +197,6 @@ bool make_consistent_streams(const AcquisitionModel& model, int W, int H, int ou
 
 namespace {
 
-// Moves rows [from, from + count) of `data` (row_size values each) up to
-// rows [0, count), in blocks of `from` rows: a block's source and
-// destination do not overlap and each block lands where the one before it
-// was read, so the blocks go in order and each block's rows in parallel.
-template <typename T>
-void slide_rows_up(T* data, std::size_t row_size, int from, int count) {
-  for (int first = 0; first < count && from > 0; first += from) {
-    const int rows = std::min(from, count - first);
-    tbb::parallel_for(tbb::blocked_range<int>(0, rows, 8), [&](const tbb::blocked_range<int>& r) {
-      std::copy_n(data + row_size * std::size_t(from + first + r.begin()), row_size * std::size_t(r.size()),
-                  data + row_size * std::size_t(first + r.begin()));
-    });
-  }
-}
-
 // Rows [origin, origin + capacity) of an array at input resolution
 // (row_size values a row), for a wavefront: rows it has left behind make
 // room for the rows ahead.
@@ -228,7 +213,7 @@ struct SlidingRows {
   // rows held when the wavefront's reach has grown.
   void make_room(int end, int keep) {
     if (end - origin <= capacity) return;
-    slide_rows_up(values.data(), row_size, keep - origin, capacity - (keep - origin));
+    std::copy(values.begin() + static_cast<std::ptrdiff_t>(row_size * (keep - origin)), values.end(), values.begin());
     origin = keep;
     if (end - origin > capacity) {
       capacity = end - origin;
@@ -398,7 +383,8 @@ void make_consistent_streamed(int out_width, int out_height, WavefrontMeshes& me
       if (cut - window_origin > window.height) {
         const int keep = row_of[finished];
         const std::ptrdiff_t row_floats = static_cast<std::ptrdiff_t>(out_width) * C;
-        slide_rows_up(window.pixels.data(), std::size_t(row_floats), keep - window_origin, drawn_rows - keep);
+        std::copy(window.pixels.begin() + row_floats * (keep - window_origin),
+                  window.pixels.begin() + row_floats * (drawn_rows - window_origin), window.pixels.begin());
         window_origin = keep;
         if (cut - window_origin > window.height) {  // the reach has grown
           Image wider = prefaulted_image(out_width, cut - window_origin, C);
