@@ -129,10 +129,12 @@ void IdatEncoder::compress(const unsigned char* bytes, std::size_t size, bool la
   s.z.flush = NO_FLUSH;
   for (;;) {
     const std::uint32_t in_before = s.z.avail_in, out_before = s.z.avail_out;
+    const auto state_before = s.z.internal_state.state;
     const int status = isal_deflate(&s.z);
     if (status != COMP_OK) throw Error("igzip failed (status " + std::to_string(status) + ")");
     const bool done = last ? s.z.internal_state.state == ZSTATE_END : s.z.avail_in == 0;
-    const bool stalled = s.z.avail_in == in_before && s.z.avail_out == out_before;
+    const bool stalled =
+        s.z.avail_in == in_before && s.z.avail_out == out_before && s.z.internal_state.state == state_before;
     if (s.z.avail_out == 0) emit_chunk();
     if (done) break;
     if (stalled) throw Error("igzip made no progress");
