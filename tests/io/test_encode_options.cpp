@@ -185,27 +185,21 @@ TEST_CASE("check_encode_options: bad values are refused with the option's name")
       CHECK(what.find('\n') == std::string::npos);
     }
   };
-  EncodeOptions e;
-  e.compression = "10";
-  refused("o.png", e, "from 0 to 9");
-  e.compression = "3:diagonal";
-  refused("o.png", e, "unknown PNG filter");
-  e.compression = "1:up:zigzag";
-  refused("o.png", e, "unknown zlib strategy");
-  e.compression = "fast:adaptive";
-  refused("o.png", e, "fast takes a filter only");
-  e.compression = "fast:up:rle";
-  refused("o.png", e, "fast takes a filter only");
-  e.compression = "fast:diagonal";
-  refused("o.png", e, "unknown PNG filter");
-  e.compression = "zap";
-  refused("o.exr", e, "EXR compression is one of");
-  e.compression = "zip:4";
-  refused("o.exr", e, "only dwaa and dwab");
-  e.compression = "zip:12";
-  refused("o.tif", e, "from 1 to 9");
-  e.compression = "zip";
-  refused("o.jpg", e, "--compression");
+  struct Refused {
+    const char *path, *compression, *words;
+  };
+  for (const Refused& r : {Refused{"o.png", "10", "from 0 to 9"}, Refused{"o.png", "3:diagonal", "unknown PNG filter"},
+                           Refused{"o.png", "1:up:zigzag", "unknown zlib strategy"},
+                           Refused{"o.png", "fast:adaptive", "fast takes a filter only"},
+                           Refused{"o.png", "fast:up:rle", "fast takes a filter only"},
+                           Refused{"o.png", "fast:diagonal", "unknown PNG filter"},
+                           Refused{"o.exr", "zap", "EXR compression is one of"},
+                           Refused{"o.exr", "zip:4", "only dwaa and dwab"}, Refused{"o.tif", "zip:12", "from 1 to 9"},
+                           Refused{"o.jpg", "zip", "--compression"}}) {
+    EncodeOptions e;
+    e.compression = r.compression;
+    refused(r.path, e, r.words);
+  }
   EncodeOptions q;
   q.quality = 50;
   refused("o.png", q, "--quality");
