@@ -41,10 +41,13 @@ struct PngContext {
 
 void on_warning(png_structp, png_const_charp) {}
 
+void stage_bytes(PngContext& context, const void* data, std::size_t size) {
+  context.stage->write(context.file, data, size);  // its errors come at finish()
+  context.written += size;
+}
+
 void write_to_stage(png_structp png, png_bytep data, png_size_t size) {
-  auto* context = static_cast<PngContext*>(png_get_io_ptr(png));
-  context->stage->write(context->file, data, size);  // its errors come at finish()
-  context->written += size;
+  stage_bytes(*static_cast<PngContext*>(png_get_io_ptr(png)), data, size);
 }
 
 void flush_nothing(png_structp) {}
@@ -520,10 +523,7 @@ PngWriter::PngWriter(StagedOutput& stage, int file, const std::string& path, int
     e.fast = std::make_unique<IdatEncoder>(
         std::size_t(width) * channels * sample_bytes, channels * sample_bytes, std::size_t(height),
         png_filter_type(choice.encoding.filter),
-        [context](const unsigned char* bytes, std::size_t size) {
-          context->stage->write(context->file, bytes, size);  // its errors come at finish()
-          context->written += size;
-        });
+        [context](const unsigned char* bytes, std::size_t size) { stage_bytes(*context, bytes, size); }, path);
   }
 }
 
@@ -559,13 +559,9 @@ void PngWriter::write(const float* rows, int count) {
       if (alpha) dissociate_alpha(out, width_, channels_);
     }
   }
-  if (e.fast) {
-    try {
-      e.fast->write(e.bytes.data(), count);
-    } catch (const Error& error) {
-      throw Error("cannot write '" + path_ + "': " + error.what());
-    }
-  } else if (!write_rows(e.png, e.context, e.rows.data(), png_uint_32(count)))
+  if (e.fast)
+    e.fast->write(e.bytes.data(), count);
+  else if (!write_rows(e.png, e.context, e.rows.data(), png_uint_32(count)))
     throw Error("cannot write '" + path_ + "': " + e.context.message);
   written_ += count;
 }
@@ -573,15 +569,10 @@ void PngWriter::write(const float* rows, int count) {
 void PngWriter::finish() {
   if (written_ != height_) throw Error("cannot write '" + path_ + "': only " + std::to_string(written_) + " rows");
   Encoder& e = *encoder_;
-  if (e.fast) {
-    try {
-      e.fast->finish();
-    } catch (const Error& error) {
-      throw Error("cannot write '" + path_ + "': " + error.what());
-    }
-  } else if (!end_encoding(e.png, e.info, e.context)) {
+  if (e.fast)
+    e.fast->finish();
+  else if (!end_encoding(e.png, e.info, e.context))
     throw Error("cannot write '" + path_ + "': " + e.context.message);
-  }
 }
 
 }  // namespace ddt

@@ -19,6 +19,7 @@ struct IdatEncoder::Stream {
   std::size_t row_bytes, pixel_bytes;
   int filter;
   Sink sink;
+  std::string path;
   std::vector<unsigned char> previous, filtered;  // the last row written; a row filtered
   // A chunk being filled: length and type, then its data (CRC added at emission).
   std::vector<unsigned char> chunk;
@@ -81,9 +82,11 @@ int png_filter_type(int flags) {
   }
 }
 
-IdatEncoder::IdatEncoder(std::size_t row_bytes, std::size_t pixel_bytes, std::size_t height, int filter, Sink sink)
+IdatEncoder::IdatEncoder(std::size_t row_bytes, std::size_t pixel_bytes, std::size_t height, int filter, Sink sink,
+                         std::string path)
     : stream_(std::make_unique<Stream>()) {
-  if (filter < 0 || filter > 4) throw Error("PNG filter type " + std::to_string(filter) + " is not one of 0 to 4");
+  if (filter < 0 || filter > 4)
+    throw Error("cannot write '" + path + "': PNG filter type " + std::to_string(filter) + " is not one of 0 to 4");
   // libpng's png_write_start_row: no row above in a one-row image, no
   // pixel to the left in a one-column one.
   if (height == 1 && (filter == 2 || filter == 3 || filter == 4)) filter = 0;
@@ -93,6 +96,7 @@ IdatEncoder::IdatEncoder(std::size_t row_bytes, std::size_t pixel_bytes, std::si
   s.pixel_bytes = pixel_bytes;
   s.filter = filter;
   s.sink = std::move(sink);
+  s.path = std::move(path);
   s.previous.assign(row_bytes, 0);
   isal_deflate_init(&s.z);
   s.z.level = 1;
@@ -109,7 +113,7 @@ IdatEncoder::~IdatEncoder() = default;
 
 void IdatEncoder::write(const unsigned char* rows, int count) {
   Stream& s = *stream_;
-  if (s.finished) throw Error("image rows after the end of the image data");
+  if (s.finished) throw Error("cannot write '" + s.path + "': image rows after the end of the image data");
   // Row by row, through one row's buffer: igzip buffers what it needs.
   s.filtered.resize(s.row_bytes + 1);
   for (int r = 0; r < count; ++r) {
@@ -131,13 +135,13 @@ void IdatEncoder::compress(const unsigned char* bytes, std::size_t size, bool la
     const std::uint32_t in_before = s.z.avail_in, out_before = s.z.avail_out;
     const auto state_before = s.z.internal_state.state;
     const int status = isal_deflate(&s.z);
-    if (status != COMP_OK) throw Error("igzip failed (status " + std::to_string(status) + ")");
+    if (status != COMP_OK) throw Error("cannot write '" + s.path + "': igzip failed (status " + std::to_string(status) + ")");
     const bool done = last ? s.z.internal_state.state == ZSTATE_END : s.z.avail_in == 0;
     const bool stalled =
         s.z.avail_in == in_before && s.z.avail_out == out_before && s.z.internal_state.state == state_before;
     if (s.z.avail_out == 0) emit_chunk();
     if (done) break;
-    if (stalled) throw Error("igzip made no progress");
+    if (stalled) throw Error("cannot write '" + s.path + "': igzip made no progress");
   }
 }
 

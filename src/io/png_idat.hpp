@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <functional>
 #include <memory>
+#include <string>
 
 namespace ddt {
 
@@ -22,8 +23,10 @@ class IdatEncoder {
   // `height` rows of `row_bytes` bytes, `pixel_bytes` bytes a pixel (PNG's
   // filter unit), filtered by PNG filter type `filter` (0 none, 1 sub, 2 up,
   // 3 average, 4 Paeth; as libpng, none where a single row or column
-  // leaves nothing to predict from); the file's bytes go to `sink`.
-  IdatEncoder(std::size_t row_bytes, std::size_t pixel_bytes, std::size_t height, int filter, Sink sink);
+  // leaves nothing to predict from); the file's bytes go to `sink`. Errors
+  // name `path` ("cannot write 'out.png': ...").
+  IdatEncoder(std::size_t row_bytes, std::size_t pixel_bytes, std::size_t height, int filter, Sink sink,
+              std::string path);
   ~IdatEncoder();
   IdatEncoder(const IdatEncoder&) = delete;
   IdatEncoder& operator=(const IdatEncoder&) = delete;

@@ -53,16 +53,17 @@ PngLayout png_layout(const std::string& path) {
   PngLayout layout;
   static constexpr std::array<unsigned char, 8> signature = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
   if (file.size() < 8 || !std::equal(signature.begin(), signature.end(), b)) return layout.valid = false, layout;
+  auto be32 = [&](std::size_t i) {
+    return std::uint32_t(b[i]) << 24 | std::uint32_t(b[i + 1]) << 16 | std::uint32_t(b[i + 2]) << 8 | b[i + 3];
+  };
   std::vector<unsigned char> compressed;
   std::size_t at = 8;
   bool ended = false;
   while (at + 12 <= file.size() && !ended) {
-    const std::uint32_t n = std::uint32_t(b[at]) << 24 | std::uint32_t(b[at + 1]) << 16 | std::uint32_t(b[at + 2]) << 8 | b[at + 3];
+    const std::uint32_t n = be32(at);
     if (at + 12 + n > file.size()) break;
     const std::string type(file.data() + at + 4, 4);
-    const std::uint32_t crc = std::uint32_t(b[at + 8 + n]) << 24 | std::uint32_t(b[at + 9 + n]) << 16 |
-                              std::uint32_t(b[at + 10 + n]) << 8 | b[at + 11 + n];
-    layout.valid = layout.valid && crc32(0, b + at + 4, uInt(n + 4)) == crc;
+    layout.valid = layout.valid && crc32(0, b + at + 4, uInt(n + 4)) == be32(at + 8 + n);
     if (type == "IDAT") {
       compressed.insert(compressed.end(), b + at + 8, b + at + 8 + n);
       ++layout.idat_chunks;
